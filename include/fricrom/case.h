@@ -1,0 +1,55 @@
+// Case files (TOML): a lumped model of bodies, springs, wedge-damper contacts and loads, written
+// entirely as data, with named parameters that any numeric value may use in an expression
+// (e.g. theta = "theta_ref*(1-beta)"). Units: SI (m, kg, s, N, rad); frequencies in Hz.
+// The schema is documented in docs/case-files.md.
+#pragma once
+
+#include <Eigen/Dense>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fricrom/model.h"
+
+namespace fricrom {
+
+// Bad input in a case file: names the file, the key (and line where known) and what was expected.
+class CaseError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ParameterOverride {
+  std::string name;
+  double value = 0.0;
+};
+// Parses "name=value"; throws CaseError naming the text on bad syntax.
+ParameterOverride ParseOverride(const std::string& text);
+
+struct AnalysisSettings {
+  int harmonics = 1;
+  int samples_per_period = 128;
+  double freq_min_hz = 0.0;
+  double freq_max_hz = 0.0;
+  std::vector<double> alpha;  // one per contact, default α
+};
+
+struct Case {
+  std::string source;  // file path or a label
+  std::string name;
+  std::string description;
+  std::map<std::string, double> parameters;  // after overrides
+  Model model;
+  AnalysisSettings analysis;
+  std::vector<std::string> contact_names;
+  std::string resolved;  // the resolved case (parameters substituted) as TOML text
+};
+
+// Reads and builds a case. Unknown keys, missing keys, bad values and unknown override names
+// throw CaseError.
+Case LoadCase(const std::string& path, const std::vector<ParameterOverride>& overrides = {});
+Case ParseCase(const std::string& toml_text, const std::string& source_name,
+               const std::vector<ParameterOverride>& overrides = {});
+
+}  // namespace fricrom

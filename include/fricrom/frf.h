@@ -1,0 +1,82 @@
+// Frequency responses of an HbmSystem at fixed α: solves at given frequencies (warm-started) or
+// traces the branch by pseudo-arclength continuation over a frequency range.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fricrom/hbm.h"
+#include "fricrom/solve.h"
+
+namespace fricrom {
+
+struct FrfOptions {
+  NewtonOptions newton;
+  double initial_step = 0.02;  // arclength steps, in units of the scaled (x, f) space
+  double min_step = 1e-7;
+  double max_step = 0.05;
+  int max_points = 5000;
+  bool IsValid(std::string* error) const;
+};
+
+struct FrfPoint {
+  double freq_hz = 0.0;
+  Eigen::VectorXd x;  // harmonic coefficients (see hbm.h)
+  SolverStatus status = SolverStatus::kMaxIterations;
+  std::string message;
+  int iterations = 0;
+  double amplitude = 0.0;  // first-harmonic amplitude of the response DOF [m]
+  std::vector<ContactRegime> regimes;
+  bool turning_point_before = false;
+};
+
+// Progress: (points done, points total or −1 when unknown).
+using FrfProgress = std::function<void(int, int)>;
+
+// Solves R(x; 2πf, α) = 0 at each frequency in order, each start warm from the last converged
+// point, falling back to the full-stick linear solution and then to a continuation from the last
+// converged point. A point that still fails keeps its status; its x is the last iterate.
+std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::VectorXd& alpha,
+                                         const std::vector<double>& freqs_hz,
+                                         const FrfOptions& options,
+                                         const FrfProgress& progress = {});
+
+struct FrfTrace {
+  std::vector<FrfPoint> points;
+  ContinuationSummary summary;
+};
+
+// Traces the branch from f_start to f_end by continuation (passing turning points).
+FrfTrace TraceFrf(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_start_hz,
+                  double f_end_hz, const FrfOptions& options, const FrfProgress& progress = {});
+
+// Adapters that expose an HbmSystem at fixed α to the generic solvers (λ = ω in rad/s).
+class HbmAtFrequency : public SquareSystem {
+ public:
+  HbmAtFrequency(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha);
+  int size() const override;
+  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override;
+  double ResidualScale() const override;
+
+ private:
+  const HbmSystem& system_;
+  double omega_;
+  Eigen::VectorXd alpha_;
+};
+
+class HbmFrequencyFamily : public ParametricSystem {
+ public:
+  HbmFrequencyFamily(const HbmSystem& system, const Eigen::VectorXd& alpha);
+  int size() const override;
+  void Evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd* r, Eigen::MatrixXd* j,
+                Eigen::VectorXd* dr_domega) const override;
+  double ResidualScale() const override;
+
+ private:
+  const HbmSystem& system_;
+  Eigen::VectorXd alpha_;
+};
+
+}  // namespace fricrom

@@ -1,0 +1,29 @@
+// Linear analyses of a model: natural frequencies of the free and full-stick systems and linear
+// forced responses, the two reference limits of the friction response.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "fricrom/model.h"
+
+namespace fricrom {
+
+struct ModalResult {
+  Eigen::VectorXd frequencies_hz;  // ascending
+  Eigen::MatrixXd shapes;          // mass-normalised, one column per mode
+};
+
+// Undamped modes of (K, M); throws std::invalid_argument if M is not positive definite.
+ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
+ModalResult FreeSystemModes(const Model& model);   // blades only: model.free_dofs
+ModalResult StickSystemModes(const Model& model);  // all bodies, contacts as kn/kt springs
+
+enum class LinearSystemKind { kFree, kStick };
+
+// First-harmonic amplitude [m] of the response DOF of the linear free or full-stick system under
+// the model's harmonic-1 loads, at each frequency [Hz].
+std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind kind,
+                                            const std::vector<double>& freqs_hz);
+
+}  // namespace fricrom

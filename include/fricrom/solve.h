@@ -1,0 +1,105 @@
+// Nonlinear solvers: globalised Newton for R(x) = 0 and pseudo-arclength continuation of
+// R(x, λ) = 0 in a scalar parameter λ (frequency). They see problems only through the two small
+// interfaces below, so the lumped model, reduced FE models and condensed models all plug in.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace fricrom {
+
+enum class SolverStatus { kConverged, kMaxIterations, kSingular, kDiverged };
+std::string ToString(SolverStatus status);
+
+// R(x) = 0 with a dense Jacobian.
+class SquareSystem {
+ public:
+  virtual ~SquareSystem() = default;
+  virtual int size() const = 0;
+  virtual void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                        Eigen::MatrixXd* jacobian) const = 0;  // jacobian may be null
+  virtual double ResidualScale() const { return 1.0; }          // tolerances are relative to it
+};
+
+// R(x, λ) = 0: the family continuation follows.
+class ParametricSystem {
+ public:
+  virtual ~ParametricSystem() = default;
+  virtual int size() const = 0;
+  virtual void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* residual,
+                        Eigen::MatrixXd* jacobian, Eigen::VectorXd* dr_dlambda) const = 0;
+  virtual double ResidualScale() const { return 1.0; }
+};
+
+struct NewtonOptions {
+  int max_iterations = 60;
+  double residual_tolerance = 1e-10;  // ‖R‖ ≤ tol · ResidualScale()
+  double step_tolerance = 1e-13;      // relative step that counts as stagnation
+  int max_backtracks = 30;            // Armijo backtracking steps per iteration
+  double armijo = 1e-4;
+  double divergence_factor = 1e8;  // ‖R‖ growing past factor·‖R0‖ → diverged
+  bool IsValid(std::string* error) const;
+};
+
+struct NewtonSummary {
+  SolverStatus status = SolverStatus::kMaxIterations;
+  std::string message;
+  int iterations = 0;
+  int evaluations = 0;
+  double initial_residual = 0.0;  // ‖R‖ / scale
+  double final_residual = 0.0;
+  bool IsSolutionUsable() const { return status == SolverStatus::kConverged; }
+  std::string BriefReport() const;
+};
+
+// Damped Newton with Armijo backtracking on ½‖R‖². Throws std::invalid_argument on bad options
+// or a start vector of the wrong size; numerical failure is reported in the summary.
+NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& options,
+                          Eigen::VectorXd* x);
+
+struct ContinuationOptions {
+  double lambda_start = 0.0;
+  double lambda_end = 1.0;
+  double lambda_scale = 1.0;   // λ is scaled by this in the arclength norm
+  double x_scale = 1.0;        // x likewise (e.g. a reference amplitude)
+  double initial_step = 1e-2;  // scaled arclength
+  double min_step = 1e-6;
+  double max_step = 5e-2;
+  int max_points = 5000;
+  int target_iterations = 4;  // corrector iterations the step control aims for
+  NewtonOptions corrector;
+  bool IsValid(std::string* error) const;
+};
+
+struct ContinuationPoint {
+  double lambda = 0.0;
+  Eigen::VectorXd x;
+  int corrector_iterations = 0;
+  bool turning_point_before = false;  // dλ/ds changed sign since the previous point
+};
+
+enum class ContinuationStatus { kReachedEnd, kStepTooSmall, kMaxPoints, kStartFailed, kStopped };
+std::string ToString(ContinuationStatus status);
+
+struct ContinuationSummary {
+  ContinuationStatus status = ContinuationStatus::kMaxPoints;
+  std::string message;
+  int points = 0;
+  int turning_points = 0;
+  int rejected_steps = 0;
+  int evaluations = 0;
+  bool IsSolutionUsable() const { return status == ContinuationStatus::kReachedEnd; }
+  std::string BriefReport() const;
+};
+
+// Called with every accepted point; return false to stop.
+using ContinuationCallback = std::function<bool(const ContinuationPoint&)>;
+
+// Follows the branch through x0 at λ_start (x0 is first corrected by Newton) until λ leaves
+// [min(λ_start, λ_end), max(...)] beyond λ_end. Passes turning points.
+ContinuationSummary Continue(const ParametricSystem& system, const ContinuationOptions& options,
+                             const Eigen::VectorXd& x0, const ContinuationCallback& on_point);
+
+}  // namespace fricrom

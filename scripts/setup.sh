@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs every build/run dependency of fricrom from Debian's registry.
+# Idempotent: re-running only checks that the packages are present.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config git
+  libeigen3-dev            # dense/sparse linear algebra (public headers)
+  libsuitesparse-dev       # CHOLMOD (Craig-Bampton factorisation)
+  libarpack2-dev           # arpack-ng (shift-invert modes)
+  libfftw3-dev             # AFT transforms
+  coinor-libipopt-dev      # bounds NLP
+  libhdf5-dev              # result files
+  libgtest-dev libgmock-dev googletest
+  libbenchmark-dev
+  libcli11-dev             # command line
+  libtomlplusplus-dev      # case files
+  libmuparser-dev          # parameter expressions in case files
+  nlohmann-json3-dev       # --json output
+  python3-matplotlib python3-numpy python3-h5py   # figures (system /usr/bin/python3)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  SUDO=sudo
+else
+  SUDO=
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "setup: done"

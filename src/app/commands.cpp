@@ -1,0 +1,383 @@
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <unistd.h>
+
+#include "app/atomic_file.h"
+#include "app/hdf5_writer.h"
+#include "fricrom/case.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm.h"
+#include "fricrom/linear.h"
+
+namespace fricrom::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+// Options shared by the commands that read a case.
+struct CaseArgs {
+  std::string path;
+  std::vector<std::string> sets;
+  int harmonics = -1;
+  int samples = -1;
+
+  Case Load() const {
+    std::vector<ParameterOverride> overrides;
+    for (const std::string& s : sets) overrides.push_back(ParseOverride(s));
+    Case c = LoadCase(path, overrides);
+    if (harmonics >= 0) c.analysis.harmonics = harmonics;
+    if (samples >= 0) c.analysis.samples_per_period = samples;
+    HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
+    std::string error;
+    if (!ho.IsValid(&error)) throw CaseError("--harmonics/--samples: " + error);
+    return c;
+  }
+  void Register(CLI::App* cmd) {
+    cmd->add_option("case", path, "Case file (TOML)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--set", sets, "Override a case parameter, e.g. --set gamma=0.2 (repeatable)");
+    cmd->add_option("--harmonics", harmonics, "Harmonics H (default: the case's)")
+        ->check(CLI::Range(0, 200));
+    cmd->add_option("--samples", samples, "AFT time samples per period (default: the case's)")
+        ->check(CLI::Range(4, 1 << 20));
+  }
+};
+
+std::vector<double> ParseList(const std::string& text, const std::string& flag) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      size_t used = 0;
+      const double v = std::stod(item, &used);
+      while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument("");
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw CLI::ValidationError(flag, "'" + item + "' is not a number (expected a comma list)");
+    }
+  }
+  if (out.empty()) throw CLI::ValidationError(flag, "empty list");
+  return out;
+}
+
+std::string Version() { return FRICROM_VERSION; }
+
+void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command) {
+  h5.Attribute("", "fricrom_version", Version());
+  h5.Attribute("", "schema", "fricrom-results-1");
+  h5.Attribute("", "units", "SI (m, N, s); frequencies in Hz");
+  h5.Attribute("", "command", command);
+  h5.Attribute("", "case_name", c.name);
+  h5.Attribute("", "case_source", c.source);
+  h5.Attribute("", "response_dof", c.model.dof_names[c.model.response_dof]);
+  h5.String("case/resolved_toml", c.resolved);
+}
+
+// ---------------------------------------------------------------- modes
+int RunModes(const CaseArgs& args, bool as_json) {
+  const Case c = args.Load();
+  const ModalResult free = FreeSystemModes(c.model);
+  const ModalResult stick = StickSystemModes(c.model);
+  if (as_json) {
+    json j;
+    j["case"] = c.name;
+    j["units"] = "Hz";
+    j["free_hz"] = std::vector<double>(free.frequencies_hz.data(),
+                                       free.frequencies_hz.data() + free.frequencies_hz.size());
+    j["stick_hz"] = std::vector<double>(stick.frequencies_hz.data(),
+                                        stick.frequencies_hz.data() + stick.frequencies_hz.size());
+    j["free_dofs"] = free.frequencies_hz.size();
+    j["stick_dofs"] = stick.frequencies_hz.size();
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  std::cout << "Natural frequencies of " << c.name << " [Hz]\n";
+  std::cout << "  mode       free   full-stick\n";
+  for (int i = 0; i < stick.frequencies_hz.size(); ++i) {
+    std::cout << "  " << std::setw(4) << i + 1 << "  ";
+    if (i < free.frequencies_hz.size()) {
+      std::cout << std::setw(9) << std::fixed << std::setprecision(2) << free.frequencies_hz[i];
+    } else {
+      std::cout << std::setw(9) << "";
+    }
+    std::cout << "  " << std::setw(11) << std::fixed << std::setprecision(2)
+              << stick.frequencies_hz[i] << "\n";
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------- frf
+struct FrfArgs {
+  std::string alpha;
+  std::string freqs;
+  std::string out;
+  bool as_json = false;
+  bool plot = false;
+  bool normalise = false;
+  bool quiet = false;
+  double max_step = 0.02;
+  int linear_points = 400;
+};
+
+int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
+  const Case c = cargs.Load();
+  const auto t0 = std::chrono::steady_clock::now();
+  Eigen::VectorXd alpha = Eigen::Map<const Eigen::VectorXd>(c.analysis.alpha.data(),
+                                                            c.analysis.alpha.size());
+  if (!a.alpha.empty()) {
+    const std::vector<double> al = ParseList(a.alpha, "--alpha");
+    if (al.size() != c.model.contacts.size()) {
+      throw CLI::ValidationError("--alpha", "expected " + std::to_string(c.model.contacts.size()) +
+                                                " values (one per contact), got " +
+                                                std::to_string(al.size()));
+    }
+    for (double v : al) {
+      if (!(std::abs(v) <= 1.0)) throw CLI::ValidationError("--alpha", "values must lie in [-1, 1]");
+    }
+    alpha = Eigen::Map<const Eigen::VectorXd>(al.data(), al.size());
+  }
+  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  FrfOptions opt;
+  opt.max_step = a.max_step;
+  opt.initial_step = std::min(opt.initial_step, a.max_step);
+  const bool show_progress = !a.quiet && !a.as_json && isatty(STDERR_FILENO);
+  std::vector<FrfPoint> points;
+  json summary_json;
+  bool ok = true;
+  if (!a.freqs.empty()) {
+    const std::vector<double> f = ParseList(a.freqs, "--freq");
+    for (double v : f) {
+      if (!(v > 0.0)) throw CLI::ValidationError("--freq", "frequencies must be > 0 Hz");
+    }
+    points = SolveAtFrequencies(system, alpha, f, opt, [&](int done, int total) {
+      if (show_progress) std::cerr << "\rfrf: " << done << "/" << total << " frequencies" << std::flush;
+    });
+    for (const FrfPoint& p : points) ok = ok && p.status == SolverStatus::kConverged;
+    summary_json = {{"mode", "frequencies"}};
+  } else {
+    FrfTrace tr = TraceFrf(system, alpha, c.analysis.freq_min_hz, c.analysis.freq_max_hz, opt,
+                           [&](int done, int) {
+                             if (show_progress && done % 10 == 0) {
+                               std::cerr << "\rfrf: " << done << " points" << std::flush;
+                             }
+                           });
+    points = std::move(tr.points);
+    ok = tr.summary.IsSolutionUsable();
+    summary_json = {{"mode", "continuation"},
+                    {"status", ToString(tr.summary.status)},
+                    {"message", tr.summary.message},
+                    {"turning_points", tr.summary.turning_points},
+                    {"rejected_steps", tr.summary.rejected_steps},
+                    {"evaluations", tr.summary.evaluations}};
+    if (!a.as_json && !a.quiet) std::cerr << (show_progress ? "\n" : "") << tr.summary.BriefReport() << "\n";
+  }
+  if (show_progress && !a.freqs.empty()) std::cerr << "\n";
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Linear references over the case range (for figures and the file).
+  std::vector<double> lf(a.linear_points);
+  for (int i = 0; i < a.linear_points; ++i) {
+    lf[i] = c.analysis.freq_min_hz +
+            (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (a.linear_points - 1);
+  }
+  const std::vector<double> free_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf);
+  const std::vector<double> stick_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf);
+
+  // Files.
+  const fs::path out_dir = a.out.empty() ? fs::path("results") / c.name : fs::path(a.out);
+  fs::create_directories(out_dir);
+  const fs::path h5_path = out_dir / "frf.h5", csv_path = out_dir / "frf.csv",
+                 png_path = out_dir / "frf.png";
+  {
+    Hdf5Writer h5(h5_path);
+    CommonAttributes(h5, c, "frf");
+    std::vector<double> f, amp;
+    std::vector<int> iters;
+    std::vector<std::string> status;
+    Eigen::MatrixXd x(points.size(), system.num_unknowns());
+    std::vector<std::string> regimes;
+    for (size_t i = 0; i < points.size(); ++i) {
+      f.push_back(points[i].freq_hz);
+      amp.push_back(points[i].amplitude);
+      iters.push_back(points[i].iterations);
+      status.push_back(ToString(points[i].status));
+      x.row(i) = points[i].x.transpose();
+      for (size_t k = 0; k < c.model.contacts.size(); ++k) {
+        regimes.push_back(k < points[i].regimes.size() ? ToString(points[i].regimes[k]) : "unknown");
+      }
+    }
+    h5.Vector("frf/freq_hz", f);
+    h5.Vector("frf/amplitude_m", amp);
+    h5.Strings("frf/status", status);
+    h5.IntVector("frf/iterations", iters);
+    h5.Matrix("frf/x", x);
+    h5.Strings("frf/regimes", regimes);
+    h5.Vector("frf/alpha", alpha);
+    h5.Strings("frf/contacts", c.contact_names);
+    h5.Strings("frf/dof_names", c.model.dof_names);
+    h5.Attribute("frf", "x_layout", "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
+    h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
+    h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
+    h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
+    h5.Attribute("frf", "wall_s", wall);
+    h5.Vector("linear/freq_hz", lf);
+    h5.Vector("linear/free_amplitude_m", free_amp);
+    h5.Vector("linear/stick_amplitude_m", stick_amp);
+    h5.Commit();
+  }
+  {
+    std::ostringstream csv;
+    csv << "# fricrom " << Version() << " frf of " << c.name << "; units: Hz, m\n";
+    csv << "freq_hz,amplitude_m,status,iterations";
+    for (const std::string& n : c.contact_names) csv << ",state_" << n;
+    csv << "\n" << std::setprecision(12);
+    for (const FrfPoint& p : points) {
+      csv << p.freq_hz << "," << p.amplitude << "," << ToString(p.status) << "," << p.iterations;
+      for (size_t k = 0; k < c.model.contacts.size(); ++k) {
+        csv << "," << (k < p.regimes.size() ? ToString(p.regimes[k]) : "unknown");
+      }
+      csv << "\n";
+    }
+    WriteTextAtomically(csv_path, csv.str());
+  }
+  bool plotted = false;
+  if (a.plot) {
+    const std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) +
+                            "/scripts/plot_frf.py' '" + h5_path.string() + "' '" + png_path.string() +
+                            "'" + (a.normalise ? " --normalise" : "");
+    plotted = std::system(cmd.c_str()) == 0;
+    if (!plotted) std::cerr << "frf: figure not written (see the message above)\n";
+  }
+
+  if (a.as_json) {
+    json j;
+    j["case"] = c.name;
+    j["units"] = {{"freq", "Hz"}, {"amplitude", "m"}};
+    j["alpha"] = std::vector<double>(alpha.data(), alpha.data() + alpha.size());
+    j["harmonics"] = c.analysis.harmonics;
+    j["samples_per_period"] = c.analysis.samples_per_period;
+    j["contacts"] = c.contact_names;
+    j["summary"] = summary_json;
+    j["wall_s"] = wall;
+    json pts = json::array();
+    for (const FrfPoint& p : points) {
+      json s = json::array();
+      for (ContactRegime r : p.regimes) s.push_back(ToString(r));
+      pts.push_back({{"freq_hz", p.freq_hz},
+                     {"amplitude", p.amplitude},
+                     {"status", ToString(p.status)},
+                     {"iterations", p.iterations},
+                     {"states", s}});
+    }
+    j["points"] = pts;
+    j["files"] = {{"hdf5", h5_path.string()}, {"csv", csv_path.string()}};
+    if (plotted) j["files"]["figure"] = png_path.string();
+    std::cout << j.dump() << "\n";
+  } else if (!a.quiet) {
+    std::cout << "FRF of " << c.name << " (alpha =";
+    for (int i = 0; i < alpha.size(); ++i) std::cout << (i ? ", " : " ") << alpha[i];
+    std::cout << "), H = " << c.analysis.harmonics << ", " << c.analysis.samples_per_period
+              << " samples/period: " << points.size() << " points in " << std::setprecision(3)
+              << wall << " s\n";
+    double peak = 0.0, fpeak = 0.0;
+    for (const FrfPoint& p : points) {
+      if (p.status == SolverStatus::kConverged && p.amplitude > peak) {
+        peak = p.amplitude;
+        fpeak = p.freq_hz;
+      }
+    }
+    std::cout << "  peak amplitude of " << c.model.dof_names[c.model.response_dof] << ": "
+              << std::scientific << peak << " m at " << std::fixed << std::setprecision(2) << fpeak
+              << " Hz\n";
+    if (points.size() <= 20) {
+      for (const FrfPoint& p : points) {
+        std::cout << "  " << std::fixed << std::setprecision(3) << p.freq_hz << " Hz  "
+                  << std::scientific << std::setprecision(6) << p.amplitude << " m  "
+                  << ToString(p.status);
+        for (ContactRegime r : p.regimes) std::cout << "  " << ToString(r);
+        std::cout << "\n";
+      }
+    }
+    std::cout << "  wrote " << h5_path.string() << ", " << csv_path.string();
+    if (plotted) std::cout << ", " << png_path.string();
+    std::cout << "\n";
+  }
+  return ok ? 0 : 1;
+}
+
+// ---------------------------------------------------------------- case (dry run)
+int RunCase(const CaseArgs& args) {
+  const Case c = args.Load();
+  std::cout << "# resolved case '" << c.name << "' from " << c.source << " (units: SI)\n"
+            << c.resolved << "\n";
+  std::cout << "# " << c.model.num_dofs() << " DOFs, " << c.model.contacts.size()
+            << " contacts, H = " << c.analysis.harmonics << ", "
+            << c.analysis.samples_per_period << " samples/period\n";
+  return 0;
+}
+
+}  // namespace
+
+int Run(int argc, char** argv) {
+  CLI::App app{"fricrom " + Version() +
+               ": forced-response bounds of bladed assemblies with friction contacts"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", Version());
+
+  CaseArgs modes_args, frf_args, case_args;
+  bool modes_json = false;
+  CLI::App* modes = app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
+  modes_args.Register(modes);
+  modes->add_flag("--json", modes_json, "Print one JSON object on stdout");
+
+  FrfArgs fa;
+  CLI::App* frf = app.add_subcommand("frf", "Nonlinear forced response at fixed alpha (HBM/AFT)");
+  frf_args.Register(frf);
+  frf->add_option("--alpha", fa.alpha, "Initial tangential force coefficients, one per contact: a1,a2,...");
+  frf->add_option("--freq", fa.freqs, "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
+  frf->add_option("--out", fa.out, "Output directory (default results/<case name>)");
+  frf->add_option("--max-step", fa.max_step, "Largest continuation step (scaled arclength)")
+      ->check(CLI::PositiveNumber);
+  frf->add_flag("--json", fa.as_json, "Print one JSON object on stdout");
+  frf->add_flag("--plot", fa.plot, "Draw the FRF figure (PNG) with the linear references");
+  frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
+  frf->add_flag("--quiet", fa.quiet, "Print nothing but errors");
+
+  CLI::App* casecmd = app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
+  case_args.Register(casecmd);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    if (*modes) return RunModes(modes_args, modes_json);
+    if (*frf) return RunFrf(frf_args, fa);
+    if (*casecmd) return RunCase(case_args);
+  } catch (const CaseError& e) {
+    std::cerr << "fricrom: error: " << e.what() << "\n";
+    return 2;
+  } catch (const CLI::ValidationError& e) {
+    std::cerr << "fricrom: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "fricrom: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace fricrom::app

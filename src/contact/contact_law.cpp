@@ -1,0 +1,138 @@
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "fricrom/contact.h"
+
+namespace fricrom {
+
+std::string ToString(ContactRegime regime) {
+  switch (regime) {
+    case ContactRegime::kFullStick:
+      return "full-stick";
+    case ContactRegime::kStickSlip:
+      return "stick-slip";
+    case ContactRegime::kFullSlip:
+      return "full-slip";
+    case ContactRegime::kStickSlipLiftOff:
+      return "stick-slip-liftoff";
+    case ContactRegime::kFullLiftOff:
+      return "lift-off";
+  }
+  return "unknown";
+}
+
+ContactRegime ClassifyRegime(const std::vector<ContactState>& states) {
+  int stick = 0, slip = 0, lift = 0;
+  for (ContactState s : states) {
+    if (s == ContactState::kStick) ++stick;
+    else if (s == ContactState::kLiftOff) ++lift;
+    else ++slip;
+  }
+  const int n = static_cast<int>(states.size());
+  if (lift == n) return ContactRegime::kFullLiftOff;
+  if (lift > 0) return ContactRegime::kStickSlipLiftOff;
+  if (stick == n) return ContactRegime::kFullStick;
+  if (slip == n) return ContactRegime::kFullSlip;
+  return ContactRegime::kStickSlip;
+}
+
+void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
+                        const Eigen::VectorXd& v, double alpha, bool with_derivatives,
+                        ContactLawResult* result) {
+  const int n = static_cast<int>(u.size());
+  if (n < 2 || v.size() != n) {
+    throw std::invalid_argument("EvaluateContactLaw: u and v need the same length >= 2 (got " +
+                                std::to_string(u.size()) + " and " + std::to_string(v.size()) +
+                                ")");
+  }
+  if (!(std::abs(alpha) <= 1.0)) {
+    throw std::invalid_argument("EvaluateContactLaw: alpha must lie in [-1, 1], got " +
+                                std::to_string(alpha));
+  }
+  ContactLawResult& r = *result;
+  r.tangential.resize(n);
+  r.normal.resize(n);
+  r.states.resize(n);
+  if (with_derivatives) {
+    r.dT.assign(n, TangentialDerivative{});
+    r.dN_dv.resize(n);
+  }
+
+  // The tangential force in stick is T_k = T_a + kt (u_k − u_a), where a is the last "anchor":
+  // the initial instant, the last slip sample or the last lift-off sample. Tracking the anchor
+  // (instead of dense sensitivity rows) makes the exact derivatives O(1) per sample.
+  enum class Anchor { kInitial, kSlip, kLiftOff };
+  Anchor anchor_kind = Anchor::kInitial;
+  int anchor = 0;          // sample index (mod n) of the anchor
+  double anchor_dv = 0.0;  // dT_a/dv_a
+  double anchor_dalpha = 0.0;
+
+  auto normal_at = [&](int j) { return std::max(p.normal_preload + p.kn * v[j], 0.0); };
+
+  const double n0 = normal_at(0);
+  double t_prev = alpha * p.mu * n0;
+  if (n0 > 0.0) {
+    anchor_dv = alpha * p.mu * p.kn;
+    anchor_dalpha = p.mu * n0;
+  } else {
+    anchor_kind = Anchor::kLiftOff;
+  }
+
+  // Samples 1..2n−1: the first period settles the initial condition, the second is returned.
+  for (int step = 1; step < 2 * n; ++step) {
+    const int k = step % n;
+    const int km1 = (step - 1) % n;
+    const double nk = normal_at(k);
+    const bool record = step >= n;
+    double tk;
+    ContactState state;
+    if (nk <= 0.0) {
+      tk = 0.0;
+      state = ContactState::kLiftOff;
+      anchor_kind = Anchor::kLiftOff;
+      anchor = k;
+      anchor_dv = 0.0;
+      anchor_dalpha = 0.0;
+    } else {
+      const double predictor = t_prev + p.kt * (u[k] - u[km1]);
+      const double limit = p.mu * nk;
+      if (std::abs(predictor) <= limit) {
+        tk = predictor;
+        state = ContactState::kStick;
+      } else {
+        const double sign = predictor > 0.0 ? 1.0 : -1.0;
+        tk = sign * limit;
+        state = sign > 0.0 ? ContactState::kSlipPositive : ContactState::kSlipNegative;
+        anchor_kind = Anchor::kSlip;
+        anchor = k;
+        anchor_dv = (p.normal_preload + p.kn * v[k] > 0.0) ? sign * p.mu * p.kn : 0.0;
+        anchor_dalpha = 0.0;
+      }
+    }
+    if (record) {
+      r.tangential[k] = tk;
+      r.normal[k] = nk;
+      r.states[k] = state;
+      if (with_derivatives) {
+        TangentialDerivative& d = r.dT[k];
+        r.dN_dv[k] = nk > 0.0 ? p.kn : 0.0;
+        if (state == ContactState::kStick) {
+          d.u_plus = k;
+          d.u_minus = anchor;
+          if (anchor_kind != Anchor::kLiftOff) {
+            d.v_index = anchor;
+            d.dv = anchor_dv;
+          }
+          d.dalpha = anchor_kind == Anchor::kInitial ? anchor_dalpha : 0.0;
+        } else if (state != ContactState::kLiftOff) {
+          d.v_index = k;
+          d.dv = anchor_dv;
+        }
+      }
+    }
+    t_prev = tk;
+  }
+}
+
+}  // namespace fricrom

@@ -1,0 +1,82 @@
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+#include "fricrom/linear.h"
+
+namespace fricrom {
+namespace {
+
+Eigen::MatrixXd Sub(const Eigen::MatrixXd& m, const std::vector<int>& idx) {
+  const int n = static_cast<int>(idx.size());
+  Eigen::MatrixXd s(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) s(i, j) = m(idx[i], idx[j]);
+  }
+  return s;
+}
+
+std::vector<int> AllDofs(const Model& model) {
+  std::vector<int> all(model.num_dofs());
+  for (int i = 0; i < model.num_dofs(); ++i) all[i] = i;
+  return all;
+}
+
+}  // namespace
+
+ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass) {
+  if (stiffness.rows() != mass.rows() || stiffness.cols() != mass.cols() ||
+      stiffness.rows() != stiffness.cols()) {
+    throw std::invalid_argument("ComputeModes: K and M must be square and of equal size");
+  }
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, mass);
+  if (solver.info() != Eigen::Success) {
+    throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");
+  }
+  ModalResult result;
+  result.frequencies_hz = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt() / (2.0 * std::numbers::pi);
+  result.shapes = solver.eigenvectors();
+  return result;
+}
+
+ModalResult FreeSystemModes(const Model& model) {
+  return ComputeModes(Sub(model.stiffness, model.free_dofs), Sub(model.mass, model.free_dofs));
+}
+
+ModalResult StickSystemModes(const Model& model) {
+  return ComputeModes(model.stiffness + ContactStickStiffness(model), model.mass);
+}
+
+std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind kind,
+                                            const std::vector<double>& freqs_hz) {
+  std::vector<int> dofs = kind == LinearSystemKind::kFree ? model.free_dofs : AllDofs(model);
+  Eigen::MatrixXd k = model.stiffness;
+  if (kind == LinearSystemKind::kStick) k += ContactStickStiffness(model);
+  int response = -1;
+  for (size_t i = 0; i < dofs.size(); ++i) {
+    if (dofs[i] == model.response_dof) response = static_cast<int>(i);
+  }
+  if (response < 0) {
+    throw std::invalid_argument("LinearResponseAmplitude: response DOF not in the system");
+  }
+  const Eigen::MatrixXd ks = Sub(k, dofs), ms = Sub(model.mass, dofs), cs = Sub(model.damping, dofs);
+  const int n = static_cast<int>(dofs.size());
+  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n);
+  for (const HarmonicLoad& l : model.loads) {
+    if (l.harmonic != 1) continue;
+    for (int i = 0; i < n; ++i) f[i] += std::complex<double>(l.cos[dofs[i]], -l.sin[dofs[i]]);
+  }
+  std::vector<double> amp;
+  amp.reserve(freqs_hz.size());
+  for (double fhz : freqs_hz) {
+    const double w = 2.0 * std::numbers::pi * fhz;
+    Eigen::MatrixXcd z = (ks - w * w * ms).cast<std::complex<double>>();
+    z += std::complex<double>(0.0, w) * cs.cast<std::complex<double>>();
+    const Eigen::VectorXcd q = z.partialPivLu().solve(f);
+    amp.push_back(std::abs(q[response]));
+  }
+  return amp;
+}
+
+}  // namespace fricrom

@@ -1,0 +1,222 @@
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "fricrom/solve.h"
+
+namespace fricrom {
+
+std::string ToString(ContinuationStatus status) {
+  switch (status) {
+    case ContinuationStatus::kReachedEnd:
+      return "reached_end";
+    case ContinuationStatus::kStepTooSmall:
+      return "step_too_small";
+    case ContinuationStatus::kMaxPoints:
+      return "max_points";
+    case ContinuationStatus::kStartFailed:
+      return "start_failed";
+    case ContinuationStatus::kStopped:
+      return "stopped";
+  }
+  return "unknown";
+}
+
+bool ContinuationOptions::IsValid(std::string* error) const {
+  auto bad = [&](const std::string& msg) {
+    *error = "ContinuationOptions." + msg;
+    return false;
+  };
+  if (!std::isfinite(lambda_start) || !std::isfinite(lambda_end) || lambda_start == lambda_end) {
+    return bad("lambda_start and lambda_end must be finite and different");
+  }
+  if (!(lambda_scale > 0.0) || !(x_scale > 0.0)) return bad("lambda_scale and x_scale must be > 0");
+  if (!(min_step > 0.0) || !(initial_step >= min_step) || !(max_step >= initial_step)) {
+    return bad("steps must satisfy 0 < min_step <= initial_step <= max_step");
+  }
+  if (max_points < 1) return bad("max_points must be >= 1");
+  if (target_iterations < 1) return bad("target_iterations must be >= 1");
+  return corrector.IsValid(error);
+}
+
+std::string ContinuationSummary::BriefReport() const {
+  std::ostringstream s;
+  s << "Continuation: " << ToString(status) << ", " << points << " points, " << turning_points
+    << " turning points, " << rejected_steps << " rejected steps, " << evaluations
+    << " evaluations";
+  if (!message.empty()) s << " [" << message << "]";
+  return s.str();
+}
+
+namespace {
+
+// The system in scaled variables z = (x / x_scale, λ / λ_scale), residual divided by its scale.
+struct Scaled {
+  const ParametricSystem& sys;
+  double xs, ls, rs;
+  int n() const { return sys.size(); }
+  void Eval(const Eigen::VectorXd& z, Eigen::VectorXd* g, Eigen::MatrixXd* dg) const {
+    Eigen::VectorXd r, rl;
+    Eigen::MatrixXd j;
+    sys.Evaluate(xs * z.head(n()), ls * z[n()], &r, dg ? &j : nullptr, dg ? &rl : nullptr);
+    *g = r / rs;
+    if (dg) {
+      dg->resize(n(), n() + 1);
+      dg->leftCols(n()) = j * (xs / rs);
+      dg->col(n()) = rl * (ls / rs);
+    }
+  }
+};
+
+// Fixed λ: plain square system in x.
+struct FixedLambda : SquareSystem {
+  const ParametricSystem& sys;
+  double lambda;
+  FixedLambda(const ParametricSystem& s, double l) : sys(s), lambda(l) {}
+  int size() const override { return sys.size(); }
+  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
+    sys.Evaluate(x, lambda, r, j, nullptr);
+  }
+  double ResidualScale() const override { return sys.ResidualScale(); }
+};
+
+// Corrector: G(z) = 0 on the hyperplane τᵀ(z − z_pred) = 0.
+struct Corrector : SquareSystem {
+  const Scaled& s;
+  Eigen::VectorXd tau, z_pred;
+  Corrector(const Scaled& sc, Eigen::VectorXd t, Eigen::VectorXd zp)
+      : s(sc), tau(std::move(t)), z_pred(std::move(zp)) {}
+  int size() const override { return s.n() + 1; }
+  void Evaluate(const Eigen::VectorXd& z, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
+    Eigen::VectorXd g;
+    Eigen::MatrixXd dg;
+    s.Eval(z, &g, j ? &dg : nullptr);
+    r->resize(s.n() + 1);
+    r->head(s.n()) = g;
+    (*r)[s.n()] = tau.dot(z - z_pred);
+    if (j) {
+      j->resize(s.n() + 1, s.n() + 1);
+      j->topRows(s.n()) = dg;
+      j->row(s.n()) = tau.transpose();
+    }
+  }
+};
+
+// Unit tangent of the branch at z, oriented along `previous`.
+bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& previous,
+             Eigen::VectorXd* tau) {
+  Eigen::VectorXd g;
+  Eigen::MatrixXd dg;
+  s.Eval(z, &g, &dg);
+  Eigen::MatrixXd a(s.n() + 1, s.n() + 1);
+  a.topRows(s.n()) = dg;
+  a.row(s.n()) = previous.transpose();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(s.n() + 1);
+  rhs[s.n()] = 1.0;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  if (!(lu.rcond() > 1e-15)) return false;
+  *tau = lu.solve(rhs);
+  if (!tau->allFinite()) return false;
+  tau->normalize();
+  if (tau->dot(previous) < 0.0) *tau = -*tau;
+  return true;
+}
+
+}  // namespace
+
+ContinuationSummary Continue(const ParametricSystem& system, const ContinuationOptions& options,
+                             const Eigen::VectorXd& x0, const ContinuationCallback& on_point) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (x0.size() != system.size()) {
+    throw std::invalid_argument("Continue: x0 must have size " + std::to_string(system.size()));
+  }
+  ContinuationSummary summary;
+  const int n = system.size();
+  const double dir = options.lambda_end > options.lambda_start ? 1.0 : -1.0;
+  Scaled s{system, options.x_scale, options.lambda_scale, system.ResidualScale()};
+
+  // Starting point.
+  Eigen::VectorXd x = x0;
+  NewtonSummary start = SolveNewton(FixedLambda(system, options.lambda_start), options.corrector, &x);
+  summary.evaluations += start.evaluations;
+  if (!start.IsSolutionUsable()) {
+    summary.status = ContinuationStatus::kStartFailed;
+    summary.message = start.BriefReport();
+    return summary;
+  }
+  Eigen::VectorXd z(n + 1);
+  z << x / s.xs, options.lambda_start / s.ls;
+  auto emit = [&](const Eigen::VectorXd& zz, int iters, bool turned) {
+    ContinuationPoint p;
+    p.lambda = zz[n] * s.ls;
+    p.x = zz.head(n) * s.xs;
+    p.corrector_iterations = iters;
+    p.turning_point_before = turned;
+    ++summary.points;
+    return on_point ? on_point(p) : true;
+  };
+  if (!emit(z, start.iterations, false)) {
+    summary.status = ContinuationStatus::kStopped;
+    return summary;
+  }
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(n + 1);
+  tau[n] = dir;
+  if (!Tangent(s, z, tau, &tau)) {
+    summary.status = ContinuationStatus::kStartFailed;
+    summary.message = "singular tangent system at the start point";
+    return summary;
+  }
+  const double lambda_end_scaled = options.lambda_end / s.ls;
+  double ds = options.initial_step;
+  while (summary.points < options.max_points) {
+    Eigen::VectorXd z_new = z + ds * tau;
+    Corrector corr(s, tau, z_new);
+    NewtonOptions copts = options.corrector;
+    copts.max_iterations = std::min(copts.max_iterations, 3 * options.target_iterations + 4);
+    NewtonSummary cs = SolveNewton(corr, copts, &z_new);
+    summary.evaluations += cs.evaluations;
+    Eigen::VectorXd tau_new;
+    if (!cs.IsSolutionUsable() || !Tangent(s, z_new, tau, &tau_new)) {
+      ++summary.rejected_steps;
+      ds *= 0.5;
+      if (ds < options.min_step) {
+        summary.status = ContinuationStatus::kStepTooSmall;
+        summary.message = "at lambda = " + std::to_string(z[n] * s.ls) + ": " + cs.BriefReport();
+        return summary;
+      }
+      continue;
+    }
+    // Past the end: land exactly on λ_end from the interpolated state, then stop.
+    if (dir * (z_new[n] - lambda_end_scaled) >= 0.0) {
+      const double f = (lambda_end_scaled - z[n]) / (z_new[n] - z[n]);
+      Eigen::VectorXd x_end = s.xs * (z.head(n) + f * (z_new.head(n) - z.head(n)));
+      NewtonSummary es = SolveNewton(FixedLambda(system, options.lambda_end), options.corrector, &x_end);
+      summary.evaluations += es.evaluations;
+      if (es.IsSolutionUsable()) {
+        Eigen::VectorXd z_end(n + 1);
+        z_end << x_end / s.xs, lambda_end_scaled;
+        emit(z_end, es.iterations, false);
+      }
+      summary.status = ContinuationStatus::kReachedEnd;
+      return summary;
+    }
+    const bool turned = (tau_new[n] > 0.0) != (tau[n] > 0.0);
+    if (turned) ++summary.turning_points;
+    z = z_new;
+    tau = tau_new;
+    if (!emit(z, cs.iterations, turned)) {
+      summary.status = ContinuationStatus::kStopped;
+      return summary;
+    }
+    const double factor =
+        std::pow(2.0, static_cast<double>(options.target_iterations - cs.iterations) /
+                          options.target_iterations);
+    ds = std::clamp(ds * std::clamp(factor, 0.5, 2.0), options.min_step, options.max_step);
+  }
+  summary.status = ContinuationStatus::kMaxPoints;
+  return summary;
+}
+
+}  // namespace fricrom

@@ -1,0 +1,162 @@
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "fricrom/frf.h"
+
+namespace fricrom {
+namespace {
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+std::vector<ContactRegime> Regimes(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
+                                   const Eigen::VectorXd& alpha) {
+  std::vector<ContactRegime> out;
+  for (const ContactHistory& h : system.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
+  return out;
+}
+
+ContinuationOptions MakeContinuationOptions(const HbmSystem& system, const FrfOptions& options,
+                                            double f0, double f1, const Eigen::VectorXd& x0) {
+  ContinuationOptions c;
+  c.lambda_start = kTwoPi * f0;
+  c.lambda_end = kTwoPi * f1;
+  c.lambda_scale = std::abs(c.lambda_end - c.lambda_start);
+  c.x_scale = std::max(x0.norm(), 1e-300);
+  (void)system;
+  c.initial_step = options.initial_step;
+  c.min_step = options.min_step;
+  c.max_step = options.max_step;
+  c.max_points = options.max_points;
+  c.corrector = options.newton;
+  return c;
+}
+}  // namespace
+
+bool FrfOptions::IsValid(std::string* error) const {
+  if (!(min_step > 0.0 && initial_step >= min_step && max_step >= initial_step)) {
+    *error = "FrfOptions: steps must satisfy 0 < min_step <= initial_step <= max_step";
+    return false;
+  }
+  if (max_points < 1) {
+    *error = "FrfOptions.max_points must be >= 1";
+    return false;
+  }
+  return newton.IsValid(error);
+}
+
+HbmAtFrequency::HbmAtFrequency(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha)
+    : system_(system), omega_(omega), alpha_(alpha) {}
+int HbmAtFrequency::size() const { return system_.num_unknowns(); }
+void HbmAtFrequency::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r,
+                              Eigen::MatrixXd* j) const {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = j != nullptr;
+  system_.Evaluate(x, omega_, alpha_, req, &e);
+  *r = std::move(e.residual);
+  if (j) *j = std::move(e.jacobian);
+}
+double HbmAtFrequency::ResidualScale() const { return system_.ResidualScale(); }
+
+HbmFrequencyFamily::HbmFrequencyFamily(const HbmSystem& system, const Eigen::VectorXd& alpha)
+    : system_(system), alpha_(alpha) {}
+int HbmFrequencyFamily::size() const { return system_.num_unknowns(); }
+void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd* r,
+                                  Eigen::MatrixXd* j, Eigen::VectorXd* dr_domega) const {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = j != nullptr;
+  req.omega_derivative = dr_domega != nullptr;
+  system_.Evaluate(x, omega, alpha_, req, &e);
+  *r = std::move(e.residual);
+  if (j) *j = std::move(e.jacobian);
+  if (dr_domega) *dr_domega = std::move(e.omega_derivative);
+}
+double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(); }
+
+std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::VectorXd& alpha,
+                                         const std::vector<double>& freqs_hz,
+                                         const FrfOptions& options, const FrfProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  std::vector<FrfPoint> points;
+  bool have_last = false;
+  Eigen::VectorXd last_x;
+  double last_f = 0.0;
+  int done = 0;
+  for (double f : freqs_hz) {
+    if (!(f > 0.0) || !std::isfinite(f)) {
+      throw std::invalid_argument("SolveAtFrequencies: frequencies must be positive, got " +
+                                  std::to_string(f));
+    }
+    const double omega = kTwoPi * f;
+    HbmAtFrequency at(system, omega, alpha);
+    FrfPoint p;
+    p.freq_hz = f;
+    // 1) warm start from the previous converged point, 2) the full-stick linear solution.
+    std::vector<Eigen::VectorXd> starts;
+    if (have_last) starts.push_back(last_x);
+    starts.push_back(system.StickLinearSolution(omega));
+    NewtonSummary ns;
+    for (const Eigen::VectorXd& s : starts) {
+      p.x = s;
+      ns = SolveNewton(at, options.newton, &p.x);
+      p.iterations += ns.iterations;
+      if (ns.IsSolutionUsable()) break;
+    }
+    // 3) continuation in frequency from the previous converged point.
+    if (!ns.IsSolutionUsable() && have_last) {
+      HbmFrequencyFamily family(system, alpha);
+      ContinuationOptions copt = MakeContinuationOptions(system, options, last_f, f, last_x);
+      Eigen::VectorXd x_end;
+      ContinuationSummary cs = Continue(family, copt, last_x, [&](const ContinuationPoint& cp) {
+        x_end = cp.x;
+        return true;
+      });
+      if (cs.status == ContinuationStatus::kReachedEnd) {
+        p.x = x_end;
+        ns = SolveNewton(at, options.newton, &p.x);
+        p.iterations += ns.iterations;
+      }
+    }
+    p.status = ns.status;
+    p.message = ns.message;
+    p.amplitude = system.Amplitude(p.x);
+    if (ns.IsSolutionUsable()) {
+      p.regimes = Regimes(system, p.x, omega, alpha);
+      have_last = true;
+      last_x = p.x;
+      last_f = f;
+    }
+    points.push_back(std::move(p));
+    if (progress) progress(++done, static_cast<int>(freqs_hz.size()));
+  }
+  return points;
+}
+
+FrfTrace TraceFrf(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_start_hz,
+                  double f_end_hz, const FrfOptions& options, const FrfProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  FrfTrace trace;
+  const Eigen::VectorXd x0 = system.StickLinearSolution(kTwoPi * f_start_hz);
+  HbmFrequencyFamily family(system, alpha);
+  const ContinuationOptions copt =
+      MakeContinuationOptions(system, options, f_start_hz, f_end_hz, x0);
+  trace.summary = Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
+    FrfPoint p;
+    p.freq_hz = cp.lambda / kTwoPi;
+    p.x = cp.x;
+    p.status = SolverStatus::kConverged;
+    p.iterations = cp.corrector_iterations;
+    p.amplitude = system.Amplitude(cp.x);
+    p.regimes = Regimes(system, cp.x, cp.lambda, alpha);
+    p.turning_point_before = cp.turning_point_before;
+    trace.points.push_back(std::move(p));
+    if (progress) progress(static_cast<int>(trace.points.size()), -1);
+    return true;
+  });
+  return trace;
+}
+
+}  // namespace fricrom

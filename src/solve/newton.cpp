@@ -1,0 +1,135 @@
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "fricrom/solve.h"
+
+namespace fricrom {
+
+std::string ToString(SolverStatus status) {
+  switch (status) {
+    case SolverStatus::kConverged:
+      return "converged";
+    case SolverStatus::kMaxIterations:
+      return "max_iterations";
+    case SolverStatus::kSingular:
+      return "singular";
+    case SolverStatus::kDiverged:
+      return "diverged";
+  }
+  return "unknown";
+}
+
+bool NewtonOptions::IsValid(std::string* error) const {
+  auto bad = [&](const std::string& msg) {
+    *error = "NewtonOptions." + msg;
+    return false;
+  };
+  if (max_iterations < 1) return bad("max_iterations must be >= 1");
+  if (!(residual_tolerance > 0.0)) return bad("residual_tolerance must be > 0");
+  if (!(step_tolerance >= 0.0)) return bad("step_tolerance must be >= 0");
+  if (max_backtracks < 0) return bad("max_backtracks must be >= 0");
+  if (!(armijo > 0.0 && armijo < 0.5)) return bad("armijo must lie in (0, 0.5)");
+  if (!(divergence_factor > 1.0)) return bad("divergence_factor must be > 1");
+  return true;
+}
+
+std::string NewtonSummary::BriefReport() const {
+  std::ostringstream s;
+  s << "Newton: " << ToString(status) << " after " << iterations << " iterations ("
+    << evaluations << " evaluations), |R|/scale " << initial_residual << " -> " << final_residual;
+  if (!message.empty()) s << " [" << message << "]";
+  return s.str();
+}
+
+NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& options,
+                          Eigen::VectorXd* x) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (x == nullptr || x->size() != system.size()) {
+    throw std::invalid_argument("SolveNewton: start vector must have size " +
+                                std::to_string(system.size()));
+  }
+  NewtonSummary summary;
+  const double scale = system.ResidualScale();
+  Eigen::VectorXd r, r_trial, x_trial;
+  Eigen::MatrixXd j;
+  system.Evaluate(*x, &r, &j);
+  ++summary.evaluations;
+  double norm = r.norm() / scale;
+  summary.initial_residual = summary.final_residual = norm;
+  if (!std::isfinite(norm)) {
+    summary.status = SolverStatus::kDiverged;
+    summary.message = "non-finite residual at the start point";
+    return summary;
+  }
+  for (;;) {
+    if (norm <= options.residual_tolerance) {
+      summary.status = SolverStatus::kConverged;
+      return summary;
+    }
+    if (summary.iterations >= options.max_iterations) {
+      summary.status = SolverStatus::kMaxIterations;
+      return summary;
+    }
+    ++summary.iterations;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu(j);
+    const double rcond = lu.rcond();
+    if (!(rcond > 1e-15)) {
+      summary.status = SolverStatus::kSingular;
+      summary.message = "Jacobian reciprocal condition " + std::to_string(rcond);
+      return summary;
+    }
+    const Eigen::VectorXd dx = -lu.solve(r);
+    if (!dx.allFinite()) {
+      summary.status = SolverStatus::kSingular;
+      summary.message = "non-finite Newton step";
+      return summary;
+    }
+    // Armijo backtracking on ½‖R‖²; the residual has kinks (stick/slip switches), so the
+    // smallest trial that still decreases ‖R‖ is kept when the sufficient decrease is not met.
+    double t = 1.0;
+    bool accepted = false;
+    double best_norm = norm, best_t = 0.0;
+    for (int bt = 0; bt <= options.max_backtracks; ++bt, t *= 0.5) {
+      x_trial = *x + t * dx;
+      system.Evaluate(x_trial, &r_trial, nullptr);
+      ++summary.evaluations;
+      const double trial = r_trial.norm() / scale;
+      if (std::isfinite(trial) && trial < best_norm) {
+        best_norm = trial;
+        best_t = t;
+      }
+      if (std::isfinite(trial) && trial * trial <= (1.0 - 2.0 * options.armijo * t) * norm * norm) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      if (best_t == 0.0) {
+        summary.status = SolverStatus::kDiverged;
+        summary.message = "line search found no decrease of |R|";
+        return summary;
+      }
+      t = best_t;
+    }
+    const double step = t * dx.norm();
+    *x += t * dx;
+    system.Evaluate(*x, &r, &j);
+    ++summary.evaluations;
+    norm = r.norm() / scale;
+    summary.final_residual = norm;
+    if (!std::isfinite(norm) || norm > options.divergence_factor * summary.initial_residual) {
+      summary.status = SolverStatus::kDiverged;
+      summary.message = "residual grew past divergence_factor";
+      return summary;
+    }
+    if (norm > options.residual_tolerance && step <= options.step_tolerance * (x->norm() + 1e-300)) {
+      summary.status = SolverStatus::kMaxIterations;
+      summary.message = "stagnated: step below step_tolerance";
+      return summary;
+    }
+  }
+}
+
+}  // namespace fricrom
