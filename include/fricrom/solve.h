@@ -37,6 +37,8 @@ struct NewtonOptions {
   int max_iterations = 60;
   double residual_tolerance = 1e-10;  // ‖R‖ ≤ tol · ResidualScale()
   double step_tolerance = 1e-13;      // relative step that counts as stagnation
+  double converged_step = 1e-12;      // relative Newton step accepted as converged when
+                                      // ‖R‖ ≤ 1e3 · residual_tolerance · scale
   int max_backtracks = 30;            // Armijo backtracking steps per iteration
   double armijo = 1e-4;
   double divergence_factor = 1e8;  // ‖R‖ growing past factor·‖R0‖ → diverged
@@ -69,6 +71,7 @@ struct ContinuationOptions {
   double max_step = 5e-2;
   int max_points = 5000;
   int target_iterations = 4;  // corrector iterations the step control aims for
+  double turning_tolerance = 1e-4;  // scaled λ retreat that counts as a turning point
   NewtonOptions corrector;
   bool IsValid(std::string* error) const;
 };
@@ -77,7 +80,7 @@ struct ContinuationPoint {
   double lambda = 0.0;
   Eigen::VectorXd x;
   int corrector_iterations = 0;
-  bool turning_point_before = false;  // dλ/ds changed sign since the previous point
+  bool turning_point_before = false;  // λ turned back (beyond turning_tolerance) at this point
 };
 
 enum class ContinuationStatus { kReachedEnd, kStepTooSmall, kMaxPoints, kStartFailed, kStopped };

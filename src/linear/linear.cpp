@@ -30,6 +30,9 @@ ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd
       stiffness.rows() != stiffness.cols()) {
     throw std::invalid_argument("ComputeModes: K and M must be square and of equal size");
   }
+  if (Eigen::LLT<Eigen::MatrixXd>(mass).info() != Eigen::Success) {
+    throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");
+  }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, mass);
   if (solver.info() != Eigen::Success) {
     throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");

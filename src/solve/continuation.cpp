@@ -37,6 +37,7 @@ bool ContinuationOptions::IsValid(std::string* error) const {
   }
   if (max_points < 1) return bad("max_points must be >= 1");
   if (target_iterations < 1) return bad("target_iterations must be >= 1");
+  if (!(turning_tolerance >= 0.0)) return bad("turning_tolerance must be >= 0");
   return corrector.IsValid(error);
 }
 
@@ -170,6 +171,7 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
   }
   const double lambda_end_scaled = options.lambda_end / s.ls;
   double ds = options.initial_step;
+  double travel = dir, lambda_extreme = z[n];
   while (summary.points < options.max_points) {
     Eigen::VectorXd z_new = z + ds * tau;
     Corrector corr(s, tau, z_new);
@@ -202,8 +204,17 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
       summary.status = ContinuationStatus::kReachedEnd;
       return summary;
     }
-    const bool turned = (tau_new[n] > 0.0) != (tau[n] > 0.0);
-    if (turned) ++summary.turning_points;
+    // A fold counts once λ has come back from its running extreme by more than the tolerance:
+    // the sampled contact law makes the branch piecewise smooth, with sub-tolerance zig-zags.
+    bool turned = false;
+    if ((z_new[n] - lambda_extreme) * travel > 0.0) {
+      lambda_extreme = z_new[n];
+    } else if (std::abs(z_new[n] - lambda_extreme) > options.turning_tolerance) {
+      turned = true;
+      ++summary.turning_points;
+      travel = -travel;
+      lambda_extreme = z_new[n];
+    }
     z = z_new;
     tau = tau_new;
     if (!emit(z, cs.iterations, turned)) {

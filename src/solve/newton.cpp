@@ -28,6 +28,7 @@ bool NewtonOptions::IsValid(std::string* error) const {
   if (max_iterations < 1) return bad("max_iterations must be >= 1");
   if (!(residual_tolerance > 0.0)) return bad("residual_tolerance must be > 0");
   if (!(step_tolerance >= 0.0)) return bad("step_tolerance must be >= 0");
+  if (!(converged_step >= 0.0)) return bad("converged_step must be >= 0");
   if (max_backtracks < 0) return bad("max_backtracks must be >= 0");
   if (!(armijo > 0.0 && armijo < 0.5)) return bad("armijo must lie in (0, 0.5)");
   if (!(divergence_factor > 1.0)) return bad("divergence_factor must be > 1");
@@ -84,6 +85,14 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
     if (!dx.allFinite()) {
       summary.status = SolverStatus::kSingular;
       summary.message = "non-finite Newton step";
+      return summary;
+    }
+    // Round-off floor: the full Newton correction is negligible and the residual is within
+    // a thousand times the tolerance (sums of large, cancelling contact forces).
+    if (dx.norm() <= options.converged_step * x->norm() &&
+        norm <= 1e3 * options.residual_tolerance) {
+      summary.status = SolverStatus::kConverged;
+      summary.message = "converged on the step size at the round-off floor";
       return summary;
     }
     // Armijo backtracking on ½‖R‖²; the residual has kinks (stick/slip switches), so the

@@ -1,0 +1,146 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "fricrom/contact.h"
+
+namespace fricrom {
+namespace {
+
+constexpr int kSamples = 64;
+const ContactLawParams kParams{3e5, 2e5, 0.5, 0.0};
+
+void Harmonic(double u0, double u1, double phase, double v0, double v1, Eigen::VectorXd* u,
+              Eigen::VectorXd* v) {
+  u->resize(kSamples);
+  v->resize(kSamples);
+  for (int k = 0; k < kSamples; ++k) {
+    const double th = 2 * std::numbers::pi * k / kSamples;
+    (*u)[k] = u0 + u1 * std::cos(th);
+    (*v)[k] = v0 + v1 * std::cos(th + phase);
+  }
+}
+
+TEST(ContactLaw, FullStickMeanIsSetByAlpha) {
+  Eigen::VectorXd u, v;
+  Harmonic(0.0, 1e-5, 0.3, 3e-4, 1e-5, &u, &v);  // small motion, large preload: sticks
+  for (double alpha : {-0.5, 0.0, 0.7}) {
+    ContactLawResult r;
+    EvaluateContactLaw(kParams, u, v, alpha, false, &r);
+    ASSERT_EQ(ClassifyRegime(r.states), ContactRegime::kFullStick) << alpha;
+    const double t0 = alpha * kParams.mu * kParams.kn * v[0];
+    for (int k = 0; k < kSamples; ++k) {
+      EXPECT_NEAR(r.tangential[k], t0 + kParams.kt * (u[k] - u[0]), 1e-9);
+      EXPECT_NEAR(r.normal[k], kParams.kn * v[k], 1e-9);
+    }
+  }
+}
+
+TEST(ContactLaw, StickSlipLoopIsIndependentOfAlphaAndBoundedByCoulomb) {
+  Eigen::VectorXd u, v;
+  Harmonic(0.0, 2e-4, 0.0, 2e-4, 0.0, &u, &v);  // kt·A = 40 N > μN = 30 N: slips
+  ContactLawResult a, b;
+  EvaluateContactLaw(kParams, u, v, -1.0, false, &a);
+  EvaluateContactLaw(kParams, u, v, 0.6, false, &b);
+  EXPECT_EQ(ClassifyRegime(a.states), ContactRegime::kStickSlip);
+  for (int k = 0; k < kSamples; ++k) {
+    EXPECT_NEAR(a.tangential[k], b.tangential[k], 1e-9);
+    EXPECT_LE(std::abs(a.tangential[k]), kParams.mu * a.normal[k] + 1e-9);
+  }
+}
+
+TEST(ContactLaw, LiftOffGivesZeroForces) {
+  Eigen::VectorXd u, v;
+  Harmonic(0.0, 1e-4, 0.0, 0.0, 2e-4, &u, &v);  // v < 0 half of the period
+  ContactLawResult r;
+  EvaluateContactLaw(kParams, u, v, 0.0, false, &r);
+  EXPECT_EQ(ClassifyRegime(r.states), ContactRegime::kStickSlipLiftOff);
+  for (int k = 0; k < kSamples; ++k) {
+    if (v[k] < 0) {
+      EXPECT_EQ(r.states[k], ContactState::kLiftOff);
+      EXPECT_EQ(r.tangential[k], 0.0);
+      EXPECT_EQ(r.normal[k], 0.0);
+    }
+  }
+}
+
+TEST(ContactLaw, RejectsBadInput) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(8), v = Eigen::VectorXd::Zero(7);
+  ContactLawResult r;
+  EXPECT_THROW(EvaluateContactLaw(kParams, u, v, 0.0, false, &r), std::invalid_argument);
+  v.resize(8);
+  v.setZero();
+  EXPECT_THROW(EvaluateContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
+}
+
+// Exact sparse derivatives against central differences, sample by sample, in every regime.
+// Points where a perturbation flips a state are skipped (the law has kinks there).
+class ContactDerivatives : public ::testing::TestWithParam<std::tuple<double, double, double>> {};
+
+TEST_P(ContactDerivatives, MatchCentralDifferences) {
+  const auto [u1, v0, v1] = GetParam();
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  Eigen::VectorXd u, v;
+  Harmonic(1e-5, u1, 0.7, v0, v1, &u, &v);
+  for (int k = 0; k < kSamples; ++k) {
+    u[k] += 0.1 * u1 * noise(rng);
+    v[k] += 0.05 * std::abs(v1) * noise(rng);
+  }
+  const double alpha = 0.3;
+  ContactLawResult r;
+  EvaluateContactLaw(kParams, u, v, alpha, true, &r);
+  // Dense derivative matrices from the sparse records.
+  Eigen::MatrixXd du = Eigen::MatrixXd::Zero(kSamples, kSamples), dv = du;
+  Eigen::VectorXd da(kSamples);
+  for (int k = 0; k < kSamples; ++k) {
+    const TangentialDerivative& d = r.dT[k];
+    if (d.u_plus >= 0) du(k, d.u_plus) += kParams.kt;
+    if (d.u_minus >= 0) du(k, d.u_minus) -= kParams.kt;
+    if (d.v_index >= 0) dv(k, d.v_index) += d.dv;
+    da[k] = d.dalpha;
+  }
+  const double hu = 1e-9, ha = 1e-7;
+  int compared = 0;
+  auto check_column = [&](const Eigen::VectorXd& up, const Eigen::VectorXd& vp,
+                          const Eigen::VectorXd& um, const Eigen::VectorXd& vm, double ap,
+                          double am, double h, const Eigen::VectorXd& exact_t,
+                          const Eigen::VectorXd* exact_n) {
+    ContactLawResult p, m;
+    EvaluateContactLaw(kParams, up, vp, ap, false, &p);
+    EvaluateContactLaw(kParams, um, vm, am, false, &m);
+    if (p.states != r.states || m.states != r.states) return;  // crossed a kink
+    ++compared;
+    const Eigen::VectorXd fd_t = (p.tangential - m.tangential) / (2 * h);
+    EXPECT_LE((fd_t - exact_t).norm(), 1e-6 * std::max(1.0, exact_t.norm()));
+    if (exact_n) {
+      const Eigen::VectorXd fd_n = (p.normal - m.normal) / (2 * h);
+      EXPECT_LE((fd_n - *exact_n).norm(), 1e-6 * std::max(1.0, exact_n->norm()));
+    }
+  };
+  for (int j = 0; j < kSamples; j += 3) {
+    Eigen::VectorXd up = u, um = u;
+    up[j] += hu;
+    um[j] -= hu;
+    check_column(up, v, um, v, alpha, alpha, hu, du.col(j), nullptr);
+    Eigen::VectorXd vp = v, vm = v;
+    vp[j] += hu;
+    vm[j] -= hu;
+    Eigen::VectorXd dn = Eigen::VectorXd::Zero(kSamples);
+    dn[j] = r.dN_dv[j];
+    check_column(u, vp, u, vm, alpha, alpha, hu, dv.col(j), &dn);
+  }
+  check_column(u, v, u, v, alpha + ha, alpha - ha, ha, da, nullptr);
+  EXPECT_GT(compared, kSamples / 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Regimes, ContactDerivatives,
+                         ::testing::Values(std::make_tuple(2e-5, 3e-4, 1e-5),    // full stick
+                                           std::make_tuple(3e-4, 2e-4, 5e-5),    // stick-slip
+                                           std::make_tuple(3e-3, 1e-4, 2e-5),    // nearly full slip
+                                           std::make_tuple(2e-4, 5e-5, 1e-4)));  // lift-off
+
+}  // namespace
+}  // namespace fricrom

@@ -1,0 +1,69 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "fricrom/linear.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+// Paper, Table 3.
+const double kFreeHz[] = {87.17, 87.17, 159.15, 159.15, 246.56, 246.56};
+const double kStickHz[] = {84.58, 84.58, 168.19, 168.19, 266.89, 266.89,
+                           396.71, 396.71, 406.88, 406.88};
+
+TEST(Linear, Table3FreeAndFullStickFrequencies) {
+  const Case cs = testing::LoadBaseline();
+  const ModalResult free = FreeSystemModes(cs.model);
+  const ModalResult stick = StickSystemModes(cs.model);
+  ASSERT_EQ(free.frequencies_hz.size(), 6);
+  ASSERT_EQ(stick.frequencies_hz.size(), 10);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(free.frequencies_hz[i], kFreeHz[i], 0.01) << i;
+  for (int i = 0; i < 10; ++i) EXPECT_NEAR(stick.frequencies_hz[i], kStickHz[i], 0.01) << i;
+}
+
+// The free chain has closed-form eigenvalues k + kC·{0, 1, 3} per direction (path Laplacian).
+TEST(Linear, FreeSystemMatchesClosedForm) {
+  const Case cs = testing::LoadBaseline();
+  const ModalResult free = FreeSystemModes(cs.model);
+  const double k = 3e5, kc = 7e5;
+  const double expected[] = {k, k, k + kc, k + kc, k + 3 * kc, k + 3 * kc};
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(free.frequencies_hz[i], std::sqrt(expected[i]) / (2 * std::numbers::pi), 1e-9);
+  }
+}
+
+TEST(Linear, ModesAreMassNormalisedEigenpairs) {
+  const Case cs = testing::LoadBaseline();
+  const Eigen::MatrixXd k = cs.model.stiffness + ContactStickStiffness(cs.model);
+  const ModalResult r = StickSystemModes(cs.model);
+  const Eigen::MatrixXd& phi = r.shapes;
+  const Eigen::VectorXd w2 = (2 * std::numbers::pi * r.frequencies_hz).array().square();
+  const Eigen::MatrixXd resid = k * phi - cs.model.mass * phi * w2.asDiagonal();
+  EXPECT_LE(resid.norm(), 1e-8 * k.norm());
+  EXPECT_LE((phi.transpose() * cs.model.mass * phi - Eigen::MatrixXd::Identity(10, 10)).norm(), 1e-10);
+}
+
+TEST(Linear, ResponsePeaksAtTheTargetModes) {
+  const Case cs = testing::LoadBaseline();
+  std::vector<double> f;
+  for (double x = 240.0; x <= 290.0; x += 0.01) f.push_back(x);
+  auto peak = [&](LinearSystemKind kind) {
+    const auto a = LinearResponseAmplitude(cs.model, kind, f);
+    return f[std::max_element(a.begin(), a.end()) - a.begin()];
+  };
+  EXPECT_NEAR(peak(LinearSystemKind::kFree), 246.56, 0.05);
+  EXPECT_NEAR(peak(LinearSystemKind::kStick), 266.89, 0.05);
+}
+
+TEST(Linear, RejectsMismatchedMatrices) {
+  EXPECT_THROW(ComputeModes(Eigen::MatrixXd::Identity(3, 3), Eigen::MatrixXd::Identity(2, 2)),
+               std::invalid_argument);
+  EXPECT_THROW(ComputeModes(Eigen::MatrixXd::Identity(2, 2), -Eigen::MatrixXd::Identity(2, 2)),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fricrom

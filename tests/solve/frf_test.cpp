@@ -1,0 +1,124 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "fricrom/frf.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+// First-harmonic describing function of a Jenkins element (stiffness kt, slip force fs) under
+// u = A cos θ: T ≈ a cos θ + b sin θ (closed form of the stick-slip hysteresis loop).
+void JenkinsDescribingFunction(double kt, double fs, double amp, double* a, double* b) {
+  if (kt * amp <= fs) {  // full stick
+    *a = kt * amp;
+    *b = 0.0;
+    return;
+  }
+  const double ts = std::acos(1.0 - 2.0 * fs / (kt * amp));  // stick ends at θ*
+  const double ka = kt * amp;
+  *a = 2.0 / std::numbers::pi *
+       ((2.0 * fs - ka) * std::sin(ts) + ka * (ts / 2.0 + std::sin(2.0 * ts) / 4.0));
+  *b = 2.0 / std::numbers::pi *
+       ((fs - ka) * (1.0 - std::cos(ts)) + ka * std::sin(ts) * std::sin(ts) / 2.0 -
+        fs * (1.0 + std::cos(ts)));
+}
+
+// All amplitudes A > 0 balancing a one-DOF oscillator with the Jenkins describing function.
+std::vector<double> JenkinsAmplitudes(double m, double k, double c, double kt, double fs,
+                                      double force, double w) {
+  auto g = [&](double amp) {
+    double a, b;
+    JenkinsDescribingFunction(kt, fs, amp, &a, &b);
+    const double re = (k - m * w * w) * amp + a, im = c * w * amp - b;
+    return re * re + im * im - force * force;
+  };
+  std::vector<double> roots;
+  double lo = 1e-9, glo = g(lo);
+  for (double hi = lo * 1.01; hi < 10.0; lo = hi, glo = g(lo), hi *= 1.01) {
+    double ghi = g(hi);
+    if ((glo < 0) == (ghi < 0)) continue;
+    double l = lo, h = hi;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (l + h);
+      ((g(mid) < 0) == (glo < 0) ? l : h) = mid;
+    }
+    roots.push_back(0.5 * (l + h));
+  }
+  return roots;
+}
+
+TEST(Frf, JenkinsOscillatorMatchesTheClosedFormDescribingFunction) {
+  const double m = 1.0, k = 1e4, c = 1.0, kt = 1e4, mu = 1.0, n0 = 5.0, force = 8.0;
+  HbmSystem sys(testing::JenkinsOscillator(m, k, c, kt, mu, n0, force), HbmOptions{1, 4096});
+  const std::vector<double> freqs = {10.0, 14.0, 16.0, 18.0, 20.0, 24.0};
+  const auto pts = SolveAtFrequencies(sys, Eigen::VectorXd::Zero(1), freqs, FrfOptions{});
+  int slipping = 0;
+  for (const FrfPoint& p : pts) {
+    ASSERT_EQ(p.status, SolverStatus::kConverged) << p.freq_hz;
+    const auto roots = JenkinsAmplitudes(m, k, c, kt, mu * n0, force, kTwoPi * p.freq_hz);
+    ASSERT_FALSE(roots.empty());
+    double best = 1e9;
+    for (double r : roots) best = std::min(best, std::abs(r - p.amplitude) / r);
+    EXPECT_LT(best, 2e-3) << p.freq_hz << " Hz: HBM " << p.amplitude;
+    slipping += p.regimes[0] == ContactRegime::kStickSlip;
+  }
+  EXPECT_GE(slipping, 3) << "the comparison must cover the stick-slip regime";
+}
+
+// Lift-off softens a preloaded unilateral stop: the response curve bends over and continuation
+// has to pass two turning points.
+TEST(Frf, ContinuationPassesTheTurningPointsOfALiftOffOscillator) {
+  HbmSystem sys(testing::BouncingOscillator(0.3), HbmOptions{3, 2048});
+  FrfOptions opt;
+  opt.max_step = 0.02;  // 2048 samples: coarser sampling makes sub-mHz zig-zags at lift-off
+  const FrfTrace tr = TraceFrf(sys, Eigen::VectorXd::Zero(1), 10.0, 45.0, opt);
+  EXPECT_EQ(tr.summary.status, ContinuationStatus::kReachedEnd) << tr.summary.BriefReport();
+  EXPECT_EQ(tr.summary.turning_points, 2);
+  HbmEvaluation e;
+  int liftoff = 0;
+  for (const FrfPoint& p : tr.points) {
+    sys.Evaluate(p.x, kTwoPi * p.freq_hz, Eigen::VectorXd::Zero(1), HbmRequest{}, &e);
+    EXPECT_LE(e.residual.norm(), 1e-9 * sys.ResidualScale()) << p.freq_hz;
+    liftoff += p.regimes[0] == ContactRegime::kStickSlipLiftOff;
+  }
+  EXPECT_GT(liftoff, 0);
+  EXPECT_NEAR(tr.points.back().freq_hz, 45.0, 1e-9);
+}
+
+// The lumped benchmark near resonance: α changes the response (the paper's non-uniqueness).
+TEST(Frf, AlphaChangesTheBaselineResponseNearResonance) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  double lo = 1e9, hi = 0;
+  for (const Eigen::Vector4d& alpha : {Eigen::Vector4d(1, -1, 1, -1), Eigen::Vector4d(-1, 1, -1, 1),
+                                       Eigen::Vector4d(0, 0, 0, 0), Eigen::Vector4d(1, 1, -1, -1)}) {
+    const auto pts = SolveAtFrequencies(sys, alpha, {262.0, 266.0}, FrfOptions{});
+    ASSERT_EQ(pts[1].status, SolverStatus::kConverged);
+    lo = std::min(lo, pts[1].amplitude);
+    hi = std::max(hi, pts[1].amplitude);
+  }
+  EXPECT_GT(hi - lo, 0.01 * hi) << "expected a response scatter at 266 Hz";
+}
+
+TEST(Frf, WarmStartedSolvesAgreeWithContinuation) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  const FrfTrace tr = TraceFrf(sys, alpha, 255.0, 275.0, FrfOptions{});
+  ASSERT_EQ(tr.summary.status, ContinuationStatus::kReachedEnd);
+  std::vector<double> f;
+  for (size_t i = 0; i < tr.points.size(); i += 7) f.push_back(tr.points[i].freq_hz);
+  const auto pts = SolveAtFrequencies(sys, alpha, f, FrfOptions{});
+  for (size_t i = 0; i < pts.size(); ++i) {
+    ASSERT_EQ(pts[i].status, SolverStatus::kConverged);
+    EXPECT_NEAR(pts[i].amplitude, tr.points[7 * i].amplitude, 1e-6 * pts[i].amplitude) << f[i];
+  }
+}
+
+}  // namespace
+}  // namespace fricrom
