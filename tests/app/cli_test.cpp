@@ -1,1 +1,223 @@
+// End-to-end tests of the fricrom command-line tool: runs the built executable (FRICROM_CLI) on
+// the reference case and on bad input, checks JSON output, files and exit codes.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+const std::string kCli = FRICROM_CLI;
+const std::string kBaseline = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml";
+
+struct Run {
+  int exit_code = -1;
+  std::string output;
+};
+
+std::string Quote(const std::string& s) {
+  std::string q = "'";
+  for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return q + "'";
+}
+
+// Runs `fricrom ARGS REDIRECTIONS` through the shell; returns the exit code and what the command
+// wrote to the pipe (stdout, after the redirections are applied).
+Run Fricrom(const std::string& args, const std::string& redirections) {
+  const std::string cmd = Quote(kCli) + " " + args + " " + redirections;
+  Run r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) {
+    ADD_FAILURE() << "popen failed: " << cmd;
+    return r;
+  }
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+Run Stdout(const std::string& args) { return Fricrom(args, "2>/dev/null"); }
+Run Stderr(const std::string& args) { return Fricrom(args, "2>&1 >/dev/null"); }
+
+// A fresh directory under /tmp, removed at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "fricrom-cli-test-XXXXXX").string();
+    if (!mkdtemp(tmpl.data())) ADD_FAILURE() << "mkdtemp failed";
+    path_ = tmpl;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string ReadFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Cli, ModesJsonMatchesTable3) {
+  const Run r = Stdout("modes " + Quote(kBaseline) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  EXPECT_EQ(j.at("case"), "lumped3-baseline");
+  const std::vector<double> free = j.at("free_hz").get<std::vector<double>>();
+  const std::vector<double> stick = j.at("stick_hz").get<std::vector<double>>();
+  // Zara et al. (2024), Table 3.
+  const std::vector<double> free_ref = {87.17, 87.17, 159.15, 159.15, 246.56, 246.56};
+  const std::vector<double> stick_ref = {84.58,  84.58,  168.19, 168.19, 266.89,
+                                         266.89, 396.71, 396.71, 406.88, 406.88};
+  ASSERT_EQ(free.size(), free_ref.size());
+  ASSERT_EQ(stick.size(), stick_ref.size());
+  for (size_t i = 0; i < free.size(); ++i) EXPECT_NEAR(free[i], free_ref[i], 0.01) << "free mode " << i + 1;
+  for (size_t i = 0; i < stick.size(); ++i) EXPECT_NEAR(stick[i], stick_ref[i], 0.01) << "stick mode " << i + 1;
+}
+
+TEST(Cli, FrfAtFixedFrequenciesWritesJsonAndFiles) {
+  TempDir tmp;
+  const Run r = Stdout("frf " + Quote(kBaseline) + " --alpha 0,0,0,0 --freq 258,262,270 --json --out " +
+                       Quote(tmp.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  const json& pts = j.at("points");
+  ASSERT_TRUE(pts.is_array());
+  ASSERT_EQ(pts.size(), 3u);
+  const std::vector<double> freqs = {258.0, 262.0, 270.0};
+  const std::set<std::string> regimes = {"full-stick", "stick-slip", "full-slip",
+                                         "stick-slip-liftoff", "lift-off"};
+  for (size_t i = 0; i < 3; ++i) {
+    const json& p = pts[i];
+    EXPECT_DOUBLE_EQ(p.at("freq_hz").get<double>(), freqs[i]);
+    const double amp = p.at("amplitude").get<double>();
+    EXPECT_GT(amp, 1e-5) << "point " << i;
+    EXPECT_LT(amp, 1e-3) << "point " << i;
+    EXPECT_EQ(p.at("status"), "converged") << "point " << i;
+    const json& states = p.at("states");
+    ASSERT_TRUE(states.is_array());
+    ASSERT_EQ(states.size(), 4u);
+    for (const json& s : states) {
+      ASSERT_TRUE(s.is_string());
+      EXPECT_TRUE(regimes.count(s.get<std::string>())) << s;
+    }
+  }
+  EXPECT_EQ(j.at("alpha").get<std::vector<double>>(), (std::vector<double>{0, 0, 0, 0}));
+  EXPECT_EQ(j.at("contacts").get<std::vector<std::string>>(),
+            (std::vector<std::string>{"c1", "c2", "c3", "c4"}));
+
+  const fs::path h5 = tmp.path() / "frf.h5", csv = tmp.path() / "frf.csv";
+  ASSERT_TRUE(fs::exists(h5));
+  EXPECT_GT(fs::file_size(h5), 0u);
+  ASSERT_TRUE(fs::exists(csv));
+  std::istringstream lines(ReadFile(csv));
+  std::vector<std::string> rows;
+  for (std::string l; std::getline(lines, l);) {
+    if (!l.empty()) rows.push_back(l);
+  }
+  ASSERT_EQ(rows.size(), 5u) << ReadFile(csv);  // 2 header lines + 3 points
+  EXPECT_EQ(rows[0].rfind("#", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("freq_hz,amplitude_m,status", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("258,", 0), 0u) << rows[2];
+  EXPECT_EQ(rows[3].rfind("262,", 0), 0u) << rows[3];
+  EXPECT_EQ(rows[4].rfind("270,", 0), 0u) << rows[4];
+  // The JSON names the files it wrote.
+  EXPECT_EQ(fs::path(j.at("files").at("hdf5").get<std::string>()), h5);
+  EXPECT_EQ(fs::path(j.at("files").at("csv").get<std::string>()), csv);
+}
+
+TEST(Cli, NonexistentCaseFile) {
+  const std::string path = "/tmp/fricrom-no-such-dir/no-such-case.toml";
+  const Run r = Stderr("modes " + Quote(path));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find(path), std::string::npos) << r.output;
+}
+
+TEST(Cli, AlphaWithWrongCount) {
+  TempDir tmp;
+  const Run r = Stderr("frf " + Quote(kBaseline) + " --alpha 0,0,0 --freq 262 --out " +
+                       Quote(tmp.path().string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--alpha"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("4"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(tmp.path() / "frf.h5"));
+}
+
+TEST(Cli, AlphaOutOfRange) {
+  TempDir tmp;
+  const Run r = Stderr("frf " + Quote(kBaseline) + " --alpha 2,0,0,0 --freq 262 --out " +
+                       Quote(tmp.path().string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--alpha"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(tmp.path() / "frf.h5"));
+}
+
+TEST(Cli, UnknownParameterOverride) {
+  const Run r = Stderr("modes " + Quote(kBaseline) + " --set nosuch=1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+}
+
+TEST(Cli, BadOverrideSyntax) {
+  const Run r = Stderr("modes " + Quote(kBaseline) + " --set gamma=abc");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("gamma=abc"), std::string::npos) << r.output;
+}
+
+TEST(Cli, CaseFileWithUnknownKey) {
+  TempDir tmp;
+  std::string text = ReadFile(kBaseline);
+  const auto pos = text.find("[response]");
+  ASSERT_NE(pos, std::string::npos);
+  text.insert(pos, "frobnicate = 1\n\n");
+  const fs::path path = tmp.path() / "bad.toml";
+  std::ofstream(path) << text;
+  const Run r = Stderr("case " + Quote(path.string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(path.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frobnicate"), std::string::npos) << r.output;
+}
+
+TEST(Cli, CasePrintsTheResolvedCase) {
+  const Run r = Stdout("case " + Quote(kBaseline));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("lumped3-baseline"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[[contacts]]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fricrom-case-1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("10 DOFs, 4 contacts"), std::string::npos) << r.output;
+  // Expressions are substituted: no parameter expression survives.
+  EXPECT_EQ(r.output.find("theta_ref*("), std::string::npos) << r.output;
+}
+
+TEST(Cli, CaseAppliesOverrides) {
+  const Run r = Stdout("case " + Quote(kBaseline) + " --set gamma=0.2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("120"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("180"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,98 @@
+// Speed of the core engine on the lumped validation case (paper §4.1). Results and the machine
+// they were measured on are recorded in benchmarks/README.md (scripts/run_benchmarks.sh).
+#include <benchmark/benchmark.h>
+
+#include <numbers>
+
+#include "fricrom/case.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm.h"
+
+namespace {
+
+using namespace fricrom;
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+const Case& Baseline() {
+  static const Case c =
+      LoadCase(std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml");
+  return c;
+}
+
+// A stick-slip state near resonance (the expensive branch of the contact law).
+Eigen::VectorXd NearResonanceSolution(const HbmSystem& sys, const Eigen::VectorXd& alpha) {
+  const auto pts = SolveAtFrequencies(sys, alpha, {260.0, 264.0, 266.0}, FrfOptions{});
+  return pts.back().x;
+}
+
+void BM_ResidualAndJacobian(benchmark::State& state) {
+  const int harmonics = static_cast<int>(state.range(0));
+  const int samples = static_cast<int>(state.range(1));
+  HbmSystem sys(Baseline().model, HbmOptions{harmonics, samples});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  const Eigen::VectorXd x = NearResonanceSolution(sys, alpha);
+  HbmEvaluation e;
+  for (auto _ : state) {
+    sys.Evaluate(x, kTwoPi * 266.0, alpha, HbmRequest{true, false, false}, &e);
+    benchmark::DoNotOptimize(e.jacobian.data());
+  }
+}
+BENCHMARK(BM_ResidualAndJacobian)
+    ->Args({1, 128})
+    ->Args({1, 64})
+    ->Args({3, 128})
+    ->Args({5, 256})
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_ResidualOnly(benchmark::State& state) {
+  HbmSystem sys(Baseline().model, HbmOptions{1, 128});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  const Eigen::VectorXd x = NearResonanceSolution(sys, alpha);
+  HbmEvaluation e;
+  for (auto _ : state) {
+    sys.Evaluate(x, kTwoPi * 266.0, alpha, HbmRequest{}, &e);
+    benchmark::DoNotOptimize(e.residual.data());
+  }
+}
+BENCHMARK(BM_ResidualOnly)->Unit(benchmark::kMicrosecond);
+
+// 200 frequencies over the case range, each warm-started from the previous one.
+void BM_Frf200Points(benchmark::State& state) {
+  const Case& c = Baseline();
+  HbmSystem sys(c.model, HbmOptions{1, 128});
+  std::vector<double> f(200);
+  for (int i = 0; i < 200; ++i) {
+    f[i] = c.analysis.freq_min_hz + (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 199.0;
+  }
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  int failed = 0;
+  for (auto _ : state) {
+    const auto pts = SolveAtFrequencies(sys, alpha, f, FrfOptions{});
+    failed = 0;
+    for (const FrfPoint& p : pts) failed += p.status != SolverStatus::kConverged;
+    benchmark::DoNotOptimize(pts.data());
+  }
+  state.counters["failed_points"] = failed;
+}
+BENCHMARK(BM_Frf200Points)->Unit(benchmark::kMillisecond);
+
+// Arclength continuation over the case range (adaptive number of points).
+void BM_FrfContinuation(benchmark::State& state) {
+  const Case& c = Baseline();
+  HbmSystem sys(c.model, HbmOptions{1, 128});
+  FrfOptions opt;
+  opt.max_step = 0.02;
+  size_t points = 0;
+  for (auto _ : state) {
+    const FrfTrace tr = TraceFrf(sys, Eigen::Vector4d::Zero(), c.analysis.freq_min_hz,
+                                 c.analysis.freq_max_hz, opt);
+    points = tr.points.size();
+    benchmark::DoNotOptimize(tr.points.data());
+  }
+  state.counters["points"] = static_cast<double>(points);
+}
+BENCHMARK(BM_FrfContinuation)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
