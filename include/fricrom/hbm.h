@@ -49,7 +49,12 @@ struct CycleEnergy {
   double excitation_work = 0.0;
   double viscous_dissipation = 0.0;
   std::vector<double> contact_dissipation;  // per contact, from the contact's own forces
+  // Peak potential energy of the harmonics h ≥ 1 (paper Eq. 8, made exact):
+  // ½ Σ_h (a_hᵀK a_h + b_hᵀK b_h) + ½ Σ_contacts Σ_h (T̂a·ûa + T̂b·ûb + N̂a·v̂a + N̂b·v̂b).
+  double potential_energy = 0.0;
   double friction_dissipation() const;
+  // η = (viscous + friction dissipation) / (2π U_pot) (paper Eq. 6); cω/k for a linear oscillator.
+  double loss_factor() const;
 };
 
 // The harmonic-balance residual of one model: R(x; ω, α) = Z(ω) x + F̂c(x, α) − F̂exc.

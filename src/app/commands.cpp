@@ -229,6 +229,11 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     h5.Strings("frf/dof_names", c.model.dof_names);
     h5.Attribute("frf", "x_layout", "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
     h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
+    std::ostringstream label;
+    label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
+    for (int i = 0; i < alpha.size(); ++i) label << (i ? ", " : "") << alpha[i];
+    label << ")";
+    h5.Attribute("frf", "label", label.str());
     h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
     h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
     h5.Attribute("frf", "wall_s", wall);

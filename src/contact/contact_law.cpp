@@ -97,7 +97,9 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
     } else {
       const double predictor = t_prev + p.kt * (u[k] - u[km1]);
       const double limit = p.mu * nk;
-      if (std::abs(predictor) <= limit) {
+      // A relative tolerance keeps round-off from deciding stick or slip when the periodic
+      // force just touches the Coulomb limit (mirror-symmetric contacts must agree).
+      if (std::abs(predictor) <= limit * (1.0 + 1e-12)) {
         tk = predictor;
         state = ContactState::kStick;
       } else {

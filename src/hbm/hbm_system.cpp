@@ -38,6 +38,10 @@ double CycleEnergy::friction_dissipation() const {
   return s;
 }
 
+double CycleEnergy::loss_factor() const {
+  return (viscous_dissipation + friction_dissipation()) / (2.0 * std::numbers::pi * potential_energy);
+}
+
 // FFTW plans, buffers and the dense transform tables used for the Jacobian.
 struct HbmSystem::Workspace {
   int n = 0;   // samples
@@ -387,6 +391,7 @@ CycleEnergy HbmSystem::Energies(const Eigen::VectorXd& x, double omega,
     const auto b = x.segment(Index(0, 2 * h), n);
     e.viscous_dissipation +=
         pi * h * h * omega * (a.dot(model_.damping * a) + b.dot(model_.damping * b));
+    e.potential_energy += 0.5 * (a.dot(model_.stiffness * a) + b.dot(model_.stiffness * b));
   }
   Workspace& w = *work_;
   for (int ci = 0; ci < num_contacts(); ++ci) {
@@ -405,6 +410,9 @@ CycleEnergy HbmSystem::Energies(const Eigen::VectorXd& x, double omega,
                w.nh_coef[2 * h - 1] * w.vh[2 * h] - w.nh_coef[2 * h] * w.vh[2 * h - 1]);
     }
     e.contact_dissipation.push_back(diss);
+    for (int j = 1; j < num_coefficients(); ++j) {
+      e.potential_energy += 0.5 * (w.th[j] * w.uh[j] + w.nh_coef[j] * w.vh[j]);
+    }
   }
   return e;
 }

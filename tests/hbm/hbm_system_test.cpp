@@ -209,5 +209,32 @@ TEST(HbmSystem, EnergyBalanceAtConvergedSolutions) {
   }
 }
 
+// η of a linear oscillator is cω/k (loss factor definition of docs/theory.md).
+TEST(HbmSystem, LossFactorOfALinearOscillatorIsCOmegaOverK) {
+  Model m = testing::JenkinsOscillator(1.0, 1e4, 3.0, 1e4, 1.0, 5.0, 8.0);
+  m.contacts.clear();
+  HbmSystem sys(m, HbmOptions{1, 64});
+  for (double f : {10.0, 16.0, 30.0}) {
+    const auto pts = SolveAtFrequencies(sys, Eigen::VectorXd(0), {f}, FrfOptions{});
+    ASSERT_EQ(pts[0].status, SolverStatus::kConverged);
+    const CycleEnergy e = sys.Energies(pts[0].x, kTwoPi * f, Eigen::VectorXd(0));
+    EXPECT_NEAR(e.loss_factor(), 3.0 * kTwoPi * f / 1e4, 1e-12) << f;
+  }
+}
+
+// Away from resonance every contact sticks and dissipates nothing; near it friction dissipates.
+TEST(HbmSystem, FullStickDissipatesNothingAndStickSlipDoes) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  const auto pts = SolveAtFrequencies(sys, alpha, {250.0, 266.0}, FrfOptions{});
+  const CycleEnergy far = sys.Energies(pts[0].x, kTwoPi * 250.0, alpha);
+  const CycleEnergy near = sys.Energies(pts[1].x, kTwoPi * 266.0, alpha);
+  EXPECT_NEAR(far.friction_dissipation(), 0.0, 1e-9 * far.excitation_work);  // full stick
+  EXPECT_GT(near.friction_dissipation(), 0.0);
+  EXPECT_GT(near.loss_factor(), 0.0);
+  EXPECT_GT(far.potential_energy, 0.0);
+}
+
 }  // namespace
 }  // namespace fricrom
