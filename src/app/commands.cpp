@@ -44,7 +44,7 @@ struct CaseArgs {
     return c;
   }
   void Register(CLI::App* cmd) {
-    cmd->add_option("case", path, "Case file (TOML)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("case", path, "Case file (TOML)")->required();
     cmd->add_option("--set", sets, "Override a case parameter, e.g. --set gamma=0.2 (repeatable)");
     cmd->add_option("--harmonics", harmonics, "Harmonics H (default: the case's)")
         ->check(CLI::Range(0, 200));

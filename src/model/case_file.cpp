@@ -233,6 +233,7 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
   resolved.insert("schema", "fricrom-case-1");
   resolved.insert("units", "SI");
   resolved.insert("name", cs.name);
+  if (!cs.description.empty()) resolved.insert("description", cs.description);
   {
     toml::table p;
     for (const auto& [k, v] : cs.parameters) p.insert(k, v);

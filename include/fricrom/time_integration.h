@@ -1,0 +1,84 @@
+// Independent verification route for the harmonic balance: direct time integration of
+//   M q̈ + C q̇ + K q + F_C(q, history) = F_exc(t)                    (paper Eq. 1)
+// with the same 1D contact law as the AFT (contact.h: N = max(N0 + kn v, 0); stick predictor
+// T_k = T_{k−1} + kt (u_k − u_{k−1}) kept while |T| ≤ μN, else slip T = ±μN; lift-off T = 0),
+// applied incrementally: the tangential force is carried from step to step, so the steady state
+// reached depends on the history, which is how the α non-uniqueness (paper §2.2) shows up here.
+//
+// Procedure:
+//  1. Static state at t = 0: the static (h = 0) loads are fully applied and the static problem
+//     K q + F_C = F0 is solved with every contact's tangential force prescribed as T = α μ N
+//     (an admissible static equilibrium of a contact seated with that friction state; contacts
+//     with N ≤ 0 are open). This is paper Eq. 4, T(0) = α μ N(0), taken literally.
+//  2. From that state at rest, the harmonic loads (h ≥ 1 at ω = 2π freq_hz) are switched on with
+//     a smooth ramp over ramp_periods periods; then integration continues until the first-harmonic
+//     amplitude of the response DOF stops changing (steady_tolerance) or max_periods is reached.
+// The excitation phase is that of the HBM: period p covers t ∈ [pT, (p+1)T) and the loads are
+// cos/sin(hωt), so sample k of the last period is the HBM time sample θ_k = 2πk/N.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "fricrom/contact.h"
+#include "fricrom/model.h"
+
+namespace fricrom {
+
+struct TimeIntegrationOptions {
+  double freq_hz = 0.0;          // excitation frequency [Hz] (required)
+  int steps_per_period = 256;    // time steps per excitation period (also the output sampling)
+  int max_periods = 3000;        // gives up (kNotSettled) after this many periods
+  int min_periods = 50;          // never declares steady state earlier
+  int ramp_periods = 20;         // smooth (half-cosine) ramp of the harmonic loads
+  int block_periods = 10;        // steady state is tested every block_periods periods
+  // Steady when |A_j − A_{j−1}| ≤ steady_tolerance · A_j, A_j the first-harmonic amplitude of
+  // the response DOF over the last period of block j (and the excitation is fully ramped in).
+  double steady_tolerance = 1e-6;
+  // dt must satisfy ω_max dt ≤ stability_fraction · 2 (central-difference limit), ω_max from the
+  // full-stick system (the stiffest state the contacts can take).
+  double stability_fraction = 0.9;
+  bool IsValid(std::string* error) const;
+};
+
+struct TimeIntegrationResult {
+  enum class Status {
+    kSteadyState,   // settled within steady_tolerance
+    kNotSettled,    // max_periods reached (still drifting, or not periodic)
+    kUnstable,      // dt beyond the stability limit, or the solution blew up
+    kStaticFailed,  // no static equilibrium found for the prescribed α (singular / cycling)
+  };
+  Status status = Status::kNotSettled;
+  std::string message;
+  double amplitude = 0.0;  // first harmonic of the response DOF over the last period [m]
+  int periods = 0;         // periods integrated (ramp included)
+  int steps = 0;
+  double relative_change = 0.0;  // last block-to-block amplitude change / amplitude
+  double stability_ratio = 0.0;  // ω_max dt / 2 (< 1 for a stable scheme)
+  Eigen::VectorXd static_displacement;   // q at t = 0 [m]
+  Eigen::VectorXd last_period_response;  // response DOF at the N samples of the last period [m]
+  Eigen::MatrixXd last_period_displacements;  // all DOFs (rows) × N samples [m]
+  Eigen::MatrixXd last_period_tangential;     // contacts (rows) × N samples, T [N]
+  Eigen::MatrixXd last_period_normal;         // contacts (rows) × N samples, N [N]
+  std::vector<ContactRegime> regimes;         // per contact, over the last period
+  // T/(μN) at the first sample of the last period (0 where the contact is open): the α with which
+  // the HBM's AFT (which starts at that same instant) reproduces this periodic contact state.
+  Eigen::VectorXd equivalent_alpha;
+  bool IsSteady() const { return status == Status::kSteadyState; }
+};
+std::string ToString(TimeIntegrationResult::Status status);
+
+// Integrates the model to a periodic steady state from the static state set by initial_alpha (one
+// value in [−1, 1] per contact). Throws std::invalid_argument on invalid options, an invalid model
+// (Model::Validate), a non positive definite mass matrix or a bad initial_alpha; numerical outcomes
+// are reported in the result's status. No output is printed.
+TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& initial_alpha,
+                                             const TimeIntegrationOptions& options);
+
+// Real Fourier coefficients of the last period in the HBM layout of hbm.h (harmonic-major,
+// [q̂0 | a1 | b1 | ... | aH | bH]), e.g. to start or compare an HBM solution. Throws
+// std::invalid_argument if the result holds no period or H is negative or ≥ N/2.
+Eigen::VectorXd LastPeriodCoefficients(const TimeIntegrationResult& result, int harmonics);
+
+}  // namespace fricrom
