@@ -43,6 +43,13 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
                                          const FrfOptions& options,
                                          const FrfProgress& progress = {});
 
+// Solves R(x; ω, α) = 0 at one frequency. Starts: `x_start` (if non-empty), the full-stick
+// linear solution, then a homotopy in α: the solution at α = 0 is continued along
+// α(λ) = λ·α_target, λ: 0 → 1 (the residual has kinks in full stick and at |α| = 1, where plain
+// Newton from a linear guess fails on a sizeable share of α). The point reports its status.
+FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
+                          const Eigen::VectorXd& x_start, const FrfOptions& options);
+
 struct FrfTrace {
   std::vector<FrfPoint> points;
   ContinuationSummary summary;
@@ -64,6 +71,22 @@ class HbmAtFrequency : public SquareSystem {
   const HbmSystem& system_;
   double omega_;
   Eigen::VectorXd alpha_;
+};
+
+// R(x; ω, α0 + λ(α1 − α0)) at fixed ω: the path of the α homotopy.
+class HbmAlphaPath : public ParametricSystem {
+ public:
+  HbmAlphaPath(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha0,
+               const Eigen::VectorXd& alpha1);
+  int size() const override;
+  void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
+                Eigen::VectorXd* dr_dlambda) const override;
+  double ResidualScale() const override;
+
+ private:
+  const HbmSystem& system_;
+  double omega_;
+  Eigen::VectorXd alpha0_, alpha1_;
 };
 
 class HbmFrequencyFamily : public ParametricSystem {

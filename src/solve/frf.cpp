@@ -74,6 +74,85 @@ void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen:
 }
 double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(); }
 
+HbmAlphaPath::HbmAlphaPath(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha0,
+                           const Eigen::VectorXd& alpha1)
+    : system_(system), omega_(omega), alpha0_(alpha0), alpha1_(alpha1) {}
+int HbmAlphaPath::size() const { return system_.num_unknowns(); }
+void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r,
+                            Eigen::MatrixXd* j, Eigen::VectorXd* dr_dlambda) const {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = j != nullptr;
+  req.alpha_jacobian = dr_dlambda != nullptr;
+  // Continuation may overshoot λ ∈ [0, 1] slightly; α is clamped to its admissible box.
+  const Eigen::VectorXd alpha =
+      (alpha0_ + lambda * (alpha1_ - alpha0_)).cwiseMax(-1.0).cwiseMin(1.0);
+  system_.Evaluate(x, omega_, alpha, req, &e);
+  *r = std::move(e.residual);
+  if (j) *j = std::move(e.jacobian);
+  if (dr_dlambda) *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
+}
+double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
+
+FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
+                          const Eigen::VectorXd& x_start, const FrfOptions& options) {
+  if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
+    throw std::invalid_argument("SolveAtFrequency: frequency must be positive, got " +
+                                std::to_string(freq_hz));
+  }
+  const double omega = kTwoPi * freq_hz;
+  HbmAtFrequency at(system, omega, alpha);
+  FrfPoint p;
+  p.freq_hz = freq_hz;
+  std::vector<Eigen::VectorXd> starts;
+  if (x_start.size() > 0) starts.push_back(x_start);
+  starts.push_back(system.StickLinearSolution(omega));
+  NewtonSummary ns;
+  for (const Eigen::VectorXd& s : starts) {
+    p.x = s;
+    ns = SolveNewton(at, options.newton, &p.x);
+    p.iterations += ns.iterations;
+    if (ns.IsSolutionUsable()) break;
+  }
+  // Homotopy in α from α = 0, whose solution plain Newton finds reliably.
+  if (!ns.IsSolutionUsable() && alpha.size() > 0 && alpha.cwiseAbs().maxCoeff() > 0.0) {
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
+    Eigen::VectorXd x0 = starts.back();
+    HbmAtFrequency at0(system, omega, zero);
+    NewtonSummary s0 = SolveNewton(at0, options.newton, &x0);
+    p.iterations += s0.iterations;
+    if (s0.IsSolutionUsable()) {
+      HbmAlphaPath path(system, omega, zero, alpha);
+      ContinuationOptions c;
+      c.lambda_start = 0.0;
+      c.lambda_end = 1.0;
+      c.x_scale = std::max(x0.norm(), 1e-300);
+      c.initial_step = 0.05;
+      c.max_step = 0.2;
+      c.min_step = 1e-8;
+      c.max_points = 2000;
+      c.corrector = options.newton;
+      Eigen::VectorXd x_end;
+      double lambda_end = 0.0;
+      Continue(path, c, x0, [&](const ContinuationPoint& cp) {
+        x_end = cp.x;
+        lambda_end = cp.lambda;
+        return true;
+      });
+      if (lambda_end == 1.0) {
+        p.x = x_end;
+        ns = SolveNewton(at, options.newton, &p.x);
+        p.iterations += ns.iterations;
+      }
+    }
+  }
+  p.status = ns.status;
+  p.message = ns.message;
+  p.amplitude = system.Amplitude(p.x);
+  if (ns.IsSolutionUsable()) p.regimes = Regimes(system, p.x, omega, alpha);
+  return p;
+}
+
 std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
                                          const FrfOptions& options, const FrfProgress& progress) {
@@ -89,23 +168,9 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
       throw std::invalid_argument("SolveAtFrequencies: frequencies must be positive, got " +
                                   std::to_string(f));
     }
-    const double omega = kTwoPi * f;
-    HbmAtFrequency at(system, omega, alpha);
-    FrfPoint p;
-    p.freq_hz = f;
-    // 1) warm start from the previous converged point, 2) the full-stick linear solution.
-    std::vector<Eigen::VectorXd> starts;
-    if (have_last) starts.push_back(last_x);
-    starts.push_back(system.StickLinearSolution(omega));
-    NewtonSummary ns;
-    for (const Eigen::VectorXd& s : starts) {
-      p.x = s;
-      ns = SolveNewton(at, options.newton, &p.x);
-      p.iterations += ns.iterations;
-      if (ns.IsSolutionUsable()) break;
-    }
-    // 3) continuation in frequency from the previous converged point.
-    if (!ns.IsSolutionUsable() && have_last) {
+    FrfPoint p = SolveAtFrequency(system, alpha, f, have_last ? last_x : Eigen::VectorXd(), options);
+    // Last resort: continuation in frequency from the previous converged point.
+    if (p.status != SolverStatus::kConverged && have_last) {
       HbmFrequencyFamily family(system, alpha);
       ContinuationOptions copt = MakeContinuationOptions(system, options, last_f, f, last_x);
       Eigen::VectorXd x_end;
@@ -114,16 +179,11 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
         return true;
       });
       if (cs.status == ContinuationStatus::kReachedEnd) {
-        p.x = x_end;
-        ns = SolveNewton(at, options.newton, &p.x);
-        p.iterations += ns.iterations;
+        const FrfPoint q = SolveAtFrequency(system, alpha, f, x_end, options);
+        if (q.status == SolverStatus::kConverged) p = q;
       }
     }
-    p.status = ns.status;
-    p.message = ns.message;
-    p.amplitude = system.Amplitude(p.x);
-    if (ns.IsSolutionUsable()) {
-      p.regimes = Regimes(system, p.x, omega, alpha);
+    if (p.status == SolverStatus::kConverged) {
       have_last = true;
       last_x = p.x;
       last_f = f;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "fricrom/frf.h"
 #include "test_models.h"
@@ -118,6 +119,36 @@ TEST(Frf, WarmStartedSolvesAgreeWithContinuation) {
     ASSERT_EQ(pts[i].status, SolverStatus::kConverged);
     EXPECT_NEAR(pts[i].amplitude, tr.points[7 * i].amplitude, 1e-6 * pts[i].amplitude) << f[i];
   }
+}
+
+// Plain Newton from the full-stick linear guess fails on a share of α near resonance (kinks in
+// full stick and at |α| = 1); the α homotopy of SolveAtFrequency converges on all of them.
+TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double f = 266.0;
+  int plain_failed = 0, failed = 0;
+  for (int i = 0; i < 60; ++i) {
+    Eigen::Vector4d a(u(rng), u(rng), u(rng), u(rng));
+    if (i < 16) {
+      for (int k = 0; k < 4; ++k) a[k] = ((i >> k) & 1) ? 1.0 : -1.0;  // the corners
+    }
+    Eigen::VectorXd x = sys.StickLinearSolution(kTwoPi * f);
+    plain_failed += !SolveNewton(HbmAtFrequency(sys, kTwoPi * f, a), NewtonOptions{}, &x)
+                         .IsSolutionUsable();
+    const FrfPoint p = SolveAtFrequency(sys, a, f, Eigen::VectorXd(), FrfOptions{});
+    if (p.status != SolverStatus::kConverged) {
+      ++failed;
+      continue;
+    }
+    HbmEvaluation e;
+    sys.Evaluate(p.x, kTwoPi * f, a, HbmRequest{}, &e);
+    EXPECT_LE(e.residual.norm(), 1e-7 * sys.ResidualScale());
+  }
+  EXPECT_GT(plain_failed, 0) << "plain Newton no longer fails: the test lost its point";
+  EXPECT_EQ(failed, 0) << "plain Newton failed on " << plain_failed << "/60";
 }
 
 }  // namespace

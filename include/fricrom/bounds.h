@@ -1,0 +1,88 @@
+// Response bounds at one frequency (paper §2.3, Table 1): the minimum and the maximum forced
+// response over all admissible initial tangential force coefficients α ∈ [−1, 1]^Ncont,
+//   min / max  objective(x̂, α)   over [x̂, α]   subject to  R(x̂; ω, α) = 0,
+// solved as a smooth NLP by an interior-point method from several α seeds. Each seed starts from
+// a converged harmonic-balance solution at that α, so every start is feasible.
+//
+// The residual is only piecewise smooth in (x̂, α) (stick/slip switches, saturation of the first
+// period), and the response is flat in α wherever a contact slips or the first-period force
+// saturates: each run finds a local optimum, and the bounds are the best converged local optima
+// over the seeds. Seeds at the corners of the α box help; more seeds cost more time.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "fricrom/contact.h"
+#include "fricrom/hbm.h"
+
+namespace fricrom {
+
+struct BoundsOptions {
+  enum Objective {
+    // Squared first-harmonic amplitude a1² + b1² of the response DOF (smooth): min/max response.
+    kAmplitude,
+    // Loss factor η (paper Eq. 6/Table 1): the minimum response maximises η, the maximum
+    // response minimises η.
+    kLossFactor,
+  };
+
+  // α vectors the optimisations start from (one entry per contact, each in [−1, 1]). Empty: the
+  // default set DefaultAlphaSeeds(num_contacts).
+  std::vector<Eigen::VectorXd> alpha_seeds;
+  int max_iterations = 200;  // interior-point iterations per run
+  double tolerance = 1e-9;   // optimality tolerance of the scaled problem
+  Objective objective = kAmplitude;
+
+  bool IsValid(std::string* error) const;
+};
+
+// 0, +½·1, −½·1, the two alternating ±1 patterns, +1 and −1 (duplicates removed for one contact).
+std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts);
+
+enum class BoundStatus {
+  kConverged,      // the optimiser met its tolerances and the point satisfies R = 0
+  kMaxIterations,  // iteration limit
+  kInfeasible,     // the optimiser found no point satisfying R = 0
+  kFailed,         // anything else (restoration failure, tiny steps, evaluation errors, ...)
+};
+std::string ToString(BoundStatus status);
+
+struct BoundSolution {
+  Eigen::VectorXd x;      // harmonic coefficients (see hbm.h)
+  Eigen::VectorXd alpha;  // one per contact
+  double amplitude = 0.0;    // first-harmonic amplitude of the response DOF [m]
+  double loss_factor = 0.0;  // η at (x, α) (HbmSystem::Energies)
+  double residual = 0.0;     // ‖R(x, α)‖ / ResidualScale()
+  BoundStatus status = BoundStatus::kFailed;
+  std::string message;
+  int iterations = 0;  // interior-point iterations of the run that produced this solution
+  int seed = -1;       // index of the α seed it came from
+  std::vector<ContactRegime> regimes;
+  bool IsUsable() const { return status == BoundStatus::kConverged; }
+};
+
+struct BoundsResult {
+  double freq_hz = 0.0;
+  BoundSolution min, max;  // minimum and maximum response (best converged seed of each)
+  // Spread of the objective over the seeds whose run converged (amplitude [m] for kAmplitude,
+  // η for kLossFactor): 0 when every seed reached the same optimum.
+  double spread_min = 0.0, spread_max = 0.0;
+  int seeds_tried = 0;
+  int seeds_converged = 0;  // seeds whose start solve and both runs converged
+  int start_failures = 0;   // seeds whose starting harmonic-balance solve failed (skipped)
+  int min_failures = 0;     // runs that did not converge (never used as a bound)
+  int max_failures = 0;
+  // Paper Eq. 10: 1 − (y_max − y_min) / y_max; NaN unless both bounds converged.
+  double robustness() const;
+  bool IsUsable() const { return min.IsUsable() && max.IsUsable(); }
+  std::string BriefReport() const;
+};
+
+// Response bounds of `system` at freq_hz. Throws std::invalid_argument on invalid options, a
+// non-positive frequency, or seeds whose size differs from the number of contacts; numerical
+// failures are reported through the statuses.
+BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options);
+
+}  // namespace fricrom
