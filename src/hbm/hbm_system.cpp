@@ -42,6 +42,47 @@ double CycleEnergy::loss_factor() const {
   return (viscous_dissipation + friction_dissipation()) / (2.0 * std::numbers::pi * potential_energy);
 }
 
+namespace {
+
+// Relative displacement coefficients of a contact along direction `dir` (normal or tangent).
+void RelativeCoefficients(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& dir,
+                          const Eigen::VectorXd& x, Eigen::VectorXd* out) {
+  const int nh = sys.num_coefficients();
+  out->setZero(nh);
+  for (int i = 0; i < dir.size(); ++i) {
+    for (int j = 0; j < nh; ++j) {
+      double rel = 0.0;
+      if (c.dofs_a[i] >= 0) rel += x[sys.Index(c.dofs_a[i], j)];
+      if (c.dofs_b[i] >= 0) rel -= x[sys.Index(c.dofs_b[i], j)];
+      (*out)[j] += dir[i] * rel;
+    }
+  }
+}
+
+ContactLawParams LawParams(const Contact& c) {
+  return ContactLawParams{c.kn, c.kt, c.mu, c.normal_preload};
+}
+
+void CheckInputs(const HbmSystem& sys, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) {
+  if (x.size() != sys.num_unknowns()) {
+    throw std::invalid_argument("HbmSystem: x has " + std::to_string(x.size()) +
+                                " entries, expected " + std::to_string(sys.num_unknowns()));
+  }
+  if (alpha.size() != sys.num_contacts()) {
+    throw std::invalid_argument("HbmSystem: alpha has " + std::to_string(alpha.size()) +
+                                " entries, expected one per contact (" +
+                                std::to_string(sys.num_contacts()) + ")");
+  }
+  for (int c = 0; c < alpha.size(); ++c) {
+    if (!(std::abs(alpha[c]) <= 1.0)) {
+      throw std::invalid_argument("HbmSystem: alpha[" + std::to_string(c) +
+                                  "] must lie in [-1, 1], got " + std::to_string(alpha[c]));
+    }
+  }
+}
+
+}  // namespace
+
 // FFTW plans, buffers and the dense transform tables used for the Jacobian.
 struct HbmSystem::Workspace {
   int n = 0;   // samples
@@ -107,6 +148,18 @@ struct HbmSystem::Workspace {
     fftw_execute(backward);
     for (int k = 0; k < n; ++k) (*samples)[k] = real[k];
   }
+  // AFT of one contact: relative displacement coefficients -> samples -> law -> force
+  // coefficients (uh, vh, u, v, law, th, nh_coef).
+  void Aft(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& x, double alpha,
+           bool derivatives) {
+    RelativeCoefficients(sys, c, c.tangent, x, &uh);
+    RelativeCoefficients(sys, c, c.normal, x, &vh);
+    ToTime(uh, &u);
+    ToTime(vh, &v);
+    EvaluateContactLaw(LawParams(c), u, v, alpha, derivatives, &law);
+    ToFrequency(law.tangential, &th);
+    ToFrequency(law.normal, &nh_coef);
+  }
   // N samples -> coefficients
   void ToFrequency(const Eigen::VectorXd& samples, Eigen::VectorXd* coef) {
     for (int k = 0; k < n; ++k) real[k] = samples[k];
@@ -130,46 +183,6 @@ HbmSystem::HbmSystem(Model model, const HbmOptions& options)
 
 HbmSystem::~HbmSystem() = default;
 
-namespace {
-
-// Relative displacement coefficients of a contact along direction `dir` (normal or tangent).
-void RelativeCoefficients(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& dir,
-                          const Eigen::VectorXd& x, Eigen::VectorXd* out) {
-  const int nh = sys.num_coefficients();
-  out->setZero(nh);
-  for (int i = 0; i < dir.size(); ++i) {
-    for (int j = 0; j < nh; ++j) {
-      double rel = 0.0;
-      if (c.dofs_a[i] >= 0) rel += x[sys.Index(c.dofs_a[i], j)];
-      if (c.dofs_b[i] >= 0) rel -= x[sys.Index(c.dofs_b[i], j)];
-      (*out)[j] += dir[i] * rel;
-    }
-  }
-}
-
-ContactLawParams LawParams(const Contact& c) {
-  return ContactLawParams{c.kn, c.kt, c.mu, c.normal_preload};
-}
-
-void CheckInputs(const HbmSystem& sys, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) {
-  if (x.size() != sys.num_unknowns()) {
-    throw std::invalid_argument("HbmSystem: x has " + std::to_string(x.size()) +
-                                " entries, expected " + std::to_string(sys.num_unknowns()));
-  }
-  if (alpha.size() != sys.num_contacts()) {
-    throw std::invalid_argument("HbmSystem: alpha has " + std::to_string(alpha.size()) +
-                                " entries, expected one per contact (" +
-                                std::to_string(sys.num_contacts()) + ")");
-  }
-  for (int c = 0; c < alpha.size(); ++c) {
-    if (!(std::abs(alpha[c]) <= 1.0)) {
-      throw std::invalid_argument("HbmSystem: alpha[" + std::to_string(c) +
-                                  "] must lie in [-1, 1], got " + std::to_string(alpha[c]));
-    }
-  }
-}
-
-}  // namespace
 
 void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                          const HbmRequest& request, HbmEvaluation* out) const {
@@ -225,13 +238,7 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
   const bool derivs = request.jacobian || request.alpha_jacobian;
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
-    RelativeCoefficients(*this, c, c.tangent, x, &w.uh);
-    RelativeCoefficients(*this, c, c.normal, x, &w.vh);
-    w.ToTime(w.uh, &w.u);
-    w.ToTime(w.vh, &w.v);
-    EvaluateContactLaw(LawParams(c), w.u, w.v, alpha[ci], derivs, &w.law);
-    w.ToFrequency(w.law.tangential, &w.th);
-    w.ToFrequency(w.law.normal, &w.nh_coef);
+    w.Aft(*this, c, x, alpha[ci], derivs);
 
     const int dim = static_cast<int>(c.normal.size());
     // Residual: side A gets +(N n + T t), side B the opposite.
@@ -396,13 +403,7 @@ CycleEnergy HbmSystem::Energies(const Eigen::VectorXd& x, double omega,
   Workspace& w = *work_;
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
-    RelativeCoefficients(*this, c, c.tangent, x, &w.uh);
-    RelativeCoefficients(*this, c, c.normal, x, &w.vh);
-    w.ToTime(w.uh, &w.u);
-    w.ToTime(w.vh, &w.v);
-    EvaluateContactLaw(LawParams(c), w.u, w.v, alpha[ci], false, &w.law);
-    w.ToFrequency(w.law.tangential, &w.th);
-    w.ToFrequency(w.law.normal, &w.nh_coef);
+    w.Aft(*this, c, x, alpha[ci], false);
     double diss = 0.0;  // ∮ (T du + N dv), harmonic by harmonic
     for (int h = 1; h <= options_.harmonics; ++h) {
       diss += pi * h *
