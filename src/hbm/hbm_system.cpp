@@ -362,18 +362,13 @@ std::vector<ContactHistory> HbmSystem::ContactHistories(const Eigen::VectorXd& x
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
     ContactHistory hist;
-    RelativeCoefficients(*this, c, c.tangent, x, &w.uh);
-    RelativeCoefficients(*this, c, c.normal, x, &w.vh);
-    hist.u.resize(w.n);
-    hist.v.resize(w.n);
-    w.ToTime(w.uh, &hist.u);
-    w.ToTime(w.vh, &hist.v);
-    ContactLawResult law;
-    EvaluateContactLaw(LawParams(c), hist.u, hist.v, alpha[ci], false, &law);
-    hist.tangential = law.tangential;
-    hist.normal = law.normal;
-    hist.states = law.states;
-    hist.regime = ClassifyRegime(law.states);
+    w.Aft(*this, c, x, alpha[ci], false);
+    hist.u = w.u;
+    hist.v = w.v;
+    hist.tangential = w.law.tangential;
+    hist.normal = w.law.normal;
+    hist.states = w.law.states;
+    hist.regime = ClassifyRegime(w.law.states);
     hist.time_s = Eigen::VectorXd::LinSpaced(w.n, 0.0, period * (w.n - 1) / w.n);
     out.push_back(std::move(hist));
   }
