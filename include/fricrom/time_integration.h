@@ -27,12 +27,12 @@
 namespace fricrom {
 
 struct TimeIntegrationOptions {
-  double freq_hz = 0.0;          // excitation frequency [Hz] (required)
-  int steps_per_period = 256;    // time steps per excitation period (also the output sampling)
-  int max_periods = 3000;        // gives up (kNotSettled) after this many periods
-  int min_periods = 50;          // never declares steady state earlier
-  int ramp_periods = 20;         // smooth (half-cosine) ramp of the harmonic loads
-  int block_periods = 10;        // steady state is tested every block_periods periods
+  double freq_hz = 0.0;        // excitation frequency [Hz] (required)
+  int steps_per_period = 256;  // time steps per excitation period (also the output sampling)
+  int max_periods = 3000;      // gives up (kNotSettled) after this many periods
+  int min_periods = 50;        // never declares steady state earlier
+  int ramp_periods = 20;       // smooth (half-cosine) ramp of the harmonic loads
+  int block_periods = 10;      // steady state is tested every block_periods periods
   // Steady when |A_j − A_{j−1}| ≤ steady_tolerance · A_j, A_j the first-harmonic amplitude of
   // the response DOF over the last period of block j (and the excitation is fully ramped in).
   double steady_tolerance = 1e-6;
@@ -54,8 +54,8 @@ struct TimeIntegrationResult {
   double amplitude = 0.0;  // first harmonic of the response DOF over the last period [m]
   int periods = 0;         // periods integrated (ramp included)
   int steps = 0;
-  double relative_change = 0.0;  // last block-to-block amplitude change / amplitude
-  double stability_ratio = 0.0;  // ω_max dt / 2 (< 1 for a stable scheme)
+  double relative_change = 0.0;          // last block-to-block amplitude change / amplitude
+  double stability_ratio = 0.0;          // ω_max dt / 2 (< 1 for a stable scheme)
   Eigen::VectorXd static_displacement;   // q at t = 0 [m]
   Eigen::VectorXd last_period_response;  // response DOF at the N samples of the last period [m]
   Eigen::MatrixXd last_period_displacements;  // all DOFs (rows) × N samples [m]
@@ -73,7 +73,8 @@ std::string ToString(TimeIntegrationResult::Status status);
 // value in [−1, 1] per contact). Throws std::invalid_argument on invalid options, an invalid model
 // (Model::Validate), a non positive definite mass matrix or a bad initial_alpha; numerical outcomes
 // are reported in the result's status. No output is printed.
-TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& initial_alpha,
+TimeIntegrationResult IntegrateToSteadyState(const Model& model,
+                                             const Eigen::VectorXd& initial_alpha,
                                              const TimeIntegrationOptions& options);
 
 // Real Fourier coefficients of the last period in the HBM layout of hbm.h (harmonic-major,

@@ -136,11 +136,15 @@ bool SolveStatic(const Model& model, const std::vector<ContactTerm>& terms,
       // Side A feels +N g with g = n + α μ t and N = N0 + kn (nᵀ q_A − nᵀ q_B); side B feels −N g.
       auto add_row = [&](int dof, double g, double sign) {
         rhs[dof] -= sign * ct.n0 * g;
-        for (size_t j = 0; j < ct.dof_a.size(); ++j) a(dof, ct.dof_a[j]) += sign * ct.kn * g * ct.n_a[j];
-        for (size_t j = 0; j < ct.dof_b.size(); ++j) a(dof, ct.dof_b[j]) -= sign * ct.kn * g * ct.n_b[j];
+        for (size_t j = 0; j < ct.dof_a.size(); ++j)
+          a(dof, ct.dof_a[j]) += sign * ct.kn * g * ct.n_a[j];
+        for (size_t j = 0; j < ct.dof_b.size(); ++j)
+          a(dof, ct.dof_b[j]) -= sign * ct.kn * g * ct.n_b[j];
       };
-      for (size_t i = 0; i < ct.dof_a.size(); ++i) add_row(ct.dof_a[i], ct.n_a[i] + s * ct.t_a[i], 1.0);
-      for (size_t i = 0; i < ct.dof_b.size(); ++i) add_row(ct.dof_b[i], ct.n_b[i] + s * ct.t_b[i], -1.0);
+      for (size_t i = 0; i < ct.dof_a.size(); ++i)
+        add_row(ct.dof_a[i], ct.n_a[i] + s * ct.t_a[i], 1.0);
+      for (size_t i = 0; i < ct.dof_b.size(); ++i)
+        add_row(ct.dof_b[i], ct.n_b[i] + s * ct.t_b[i], -1.0);
     }
     Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
     if (!lu.isInvertible()) {
@@ -227,7 +231,8 @@ std::string ToString(TimeIntegrationResult::Status status) {
   return "unknown";
 }
 
-TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& initial_alpha,
+TimeIntegrationResult IntegrateToSteadyState(const Model& model,
+                                             const Eigen::VectorXd& initial_alpha,
                                              const TimeIntegrationOptions& options) {
   using Status = TimeIntegrationResult::Status;
   std::string error;
@@ -238,9 +243,9 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
   const int n = model.num_dofs();
   const int nc = static_cast<int>(model.contacts.size());
   if (initial_alpha.size() != nc) {
-    throw std::invalid_argument("IntegrateToSteadyState: initial_alpha needs one value per contact (" +
-                                std::to_string(nc) + "), got " +
-                                std::to_string(initial_alpha.size()));
+    throw std::invalid_argument(
+        "IntegrateToSteadyState: initial_alpha needs one value per contact (" + std::to_string(nc) +
+        "), got " + std::to_string(initial_alpha.size()));
   }
   for (int c = 0; c < nc; ++c) {
     if (!(std::abs(initial_alpha[c]) <= 1.0)) {
@@ -346,8 +351,7 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
       force = f0 + Ramp(t, t_ramp) * fh.col(k) - fc;
       if (p == 0 && k == 0) {
         // Start from rest: q_{−1} = q_0 + dt²/2 q̈_0 (q̇_0 = 0).
-        const Eigen::VectorXd acc =
-            model.mass.llt().solve(force - model.stiffness * q);
+        const Eigen::VectorXd acc = model.mass.llt().solve(force - model.stiffness * q);
         q_prev = q + 0.5 * dt * dt * acc;
       }
       q_next.noalias() = a_inv * force;
@@ -364,7 +368,8 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
       result.message = "solution blew up (non-finite) in period " + std::to_string(done);
       break;
     }
-    amplitude = FirstHarmonicAmplitude(disp.row(model.response_dof).transpose(), cos_table, sin_table);
+    amplitude =
+        FirstHarmonicAmplitude(disp.row(model.response_dof).transpose(), cos_table, sin_table);
     if (done % options.block_periods != 0 || done <= options.ramp_periods) continue;
     if (prev_block_amplitude >= 0.0) {
       const double diff = std::abs(amplitude - prev_block_amplitude);
