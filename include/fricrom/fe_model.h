@@ -1,0 +1,86 @@
+// Matrices exported from FE codes (Nastran DMIG/OUTPUT4/EXTSEOUT, Abaqus, CalculiX, Matrix
+// Market) in one common form: named sparse matrices with the DOF map that ties every row and
+// column to a node (or scalar point) and a component, plus nodes and coordinate systems when the
+// file carries them. Readers live in src/io/, one file per format.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fricrom {
+
+// Bad or unsupported FE input. The message names the file, the line (text) or byte offset
+// (binary) and what was expected.
+class FeReadError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One row/column of a matrix: grid node and component 1..6, or a scalar point (component 0).
+struct DofId {
+  int64_t node = 0;
+  int component = 0;
+  friend bool operator==(const DofId&, const DofId&) = default;
+};
+
+struct FeMatrix {
+  std::string name;
+  int64_t rows = 0;
+  int64_t cols = 0;
+  bool symmetric = false;             // declared symmetric in the file; storage is expanded
+  bool is_complex = false;
+  int source_precision_bits = 64;     // 32 for single-precision sources
+  Eigen::SparseMatrix<double> real;   // full (both triangles), rows x cols
+  Eigen::SparseMatrix<double> imag;   // same shape when is_complex, else empty
+  std::vector<DofId> row_dofs;        // empty when the file carries no DOF map
+  std::vector<DofId> col_dofs;
+};
+
+struct FeNode {
+  int64_t id = 0;
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero();  // in coordinate system `position_system`
+  int position_system = 0;
+  int displacement_system = 0;
+};
+
+// Rectangular system given by three points (Nastran CORD2R): origin A, a point B on z, a point C
+// in the x-z plane, all in system `reference`.
+struct CoordinateSystem {
+  int id = 0;
+  int reference = 0;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+};
+
+struct FeModel {
+  std::string source;  // file path(s) read
+  std::string format;  // "op4", "dmig", "abaqus", "calculix", "matrix-market", ...
+  std::vector<FeMatrix> matrices;
+  std::vector<FeNode> nodes;
+  std::vector<CoordinateSystem> systems;
+
+  // Case-insensitive lookup; nullptr if absent.
+  const FeMatrix* Find(const std::string& name) const;
+};
+
+// Readers. Each throws FeReadError on bad input; none returns a partially read matrix.
+FeModel ReadOp4(const std::string& path);                  // Nastran OUTPUT4, ASCII or binary
+FeModel ReadNastranPunch(const std::string& path);         // DMIG (+ EXTRN, GRID, CORD2R) .pch
+FeModel ReadAbaqusMatrix(const std::string& path);         // *MATRIX GENERATE .mtx
+FeModel ReadCalculix(const std::string& prefix);           // prefix.sti, prefix.mas, prefix.dof
+// Matrix Market coordinate real general/symmetric; DOF map from `dof_csv` (node,component rows)
+// when given.
+FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv = "");
+// Writes every value with %.17g; the DOF-map sidecar when the matrix has one. Atomic writes.
+void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
+                       const std::string& dof_csv = "");
+// Chooses the reader from the file's extension and content.
+FeModel ReadFe(const std::string& path);
+
+}  // namespace fricrom

@@ -1,0 +1,2 @@
+// placeholder: being written
+#include "fricrom/fe_model.h"
