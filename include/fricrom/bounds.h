@@ -8,6 +8,11 @@
 // period), and the response is flat in α wherever a contact slips or the first-period force
 // saturates: each run finds a local optimum, and the bounds are the best converged local optima
 // over the seeds. Seeds at the corners of the α box help; more seeds cost more time.
+//
+// A run whose start already satisfies the first-order conditions (zero reduced gradient in α, as
+// on the plateaus of the response) is accepted without calling the optimiser. At a kink, where no
+// KKT point exists, a run whose objective stays constant over 10 feasible iterations is accepted
+// as converged (its message says so); one that crawls without progress is stopped as failed.
 #pragma once
 
 #include <Eigen/Dense>
@@ -38,7 +43,9 @@ struct BoundsOptions {
   bool IsValid(std::string* error) const;
 };
 
-// 0, +½·1, −½·1, the two alternating ±1 patterns, +1 and −1 (duplicates removed for one contact).
+// 0, +½·1, −½·1 and the two alternating patterns (+1, −1, +1, ...), (−1, +1, −1, ...)
+// (duplicates removed). The alternating corners matter: on the lumped benchmark near resonance
+// the minimum response is only reached from one of them.
 std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts);
 
 enum class BoundStatus {
@@ -50,8 +57,8 @@ enum class BoundStatus {
 std::string ToString(BoundStatus status);
 
 struct BoundSolution {
-  Eigen::VectorXd x;      // harmonic coefficients (see hbm.h)
-  Eigen::VectorXd alpha;  // one per contact
+  Eigen::VectorXd x;         // harmonic coefficients (see hbm.h)
+  Eigen::VectorXd alpha;     // one per contact
   double amplitude = 0.0;    // first-harmonic amplitude of the response DOF [m]
   double loss_factor = 0.0;  // η at (x, α) (HbmSystem::Energies)
   double residual = 0.0;     // ‖R(x, α)‖ / ResidualScale()
@@ -74,6 +81,7 @@ struct BoundsResult {
   int start_failures = 0;   // seeds whose starting harmonic-balance solve failed (skipped)
   int min_failures = 0;     // runs that did not converge (never used as a bound)
   int max_failures = 0;
+  int optimizer_runs = 0;  // runs that needed Ipopt; the others started at a KKT point
   // Paper Eq. 10: 1 − (y_max − y_min) / y_max; NaN unless both bounds converged.
   double robustness() const;
   bool IsUsable() const { return min.IsUsable() && max.IsUsable(); }

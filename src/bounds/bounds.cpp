@@ -2,17 +2,18 @@
 // Ipopt stays inside this file; the public header only needs Eigen.
 #include "fricrom/bounds.h"
 
-#include <coin/IpIpoptApplication.hpp>
-#include <coin/IpSolveStatistics.hpp>
-#include <coin/IpTNLP.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <coin/IpIpoptApplication.hpp>
+#include <coin/IpIpoptCalculatedQuantities.hpp>
+#include <coin/IpSolveStatistics.hpp>
+#include <coin/IpTNLP.hpp>
 #include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
@@ -23,6 +24,11 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // A returned point counts as a solution only if ‖R‖ ≤ kFeasibility · ResidualScale().
 constexpr double kFeasibility = 1e-6;
+// Stall test: scaled constraint violation (max-norm of R / ResidualScale()) and iteration count.
+constexpr double kStallFeasibility = 1e-8;
+constexpr int kStallIterations = 10;
+constexpr int kSlowIterations = 10;
+constexpr double kSlowProgress = 1e-5;
 
 // The linear part of the residual, R = Z(ω) x − F̂exc + F̂c(x, α), needed to separate the contact
 // forces F̂c from R for the loss factor.
@@ -70,7 +76,7 @@ double LossFactor(const HbmSystem& sys, const LinearPart& lp, double omega,
   const int n = sys.num_dofs(), nx = sys.num_unknowns(), harmonics = sys.options().harmonics;
   const double pi = std::numbers::pi;
   const Eigen::VectorXd fc = e.residual - lp.z * x + lp.excitation;
-  Eigen::VectorXd sx = Eigen::VectorXd::Zero(nx);  // S x: W_fric = π F̂cᵀ S x
+  Eigen::VectorXd sx = Eigen::VectorXd::Zero(nx);   // S x: W_fric = π F̂cᵀ S x
   Eigen::VectorXd stf = Eigen::VectorXd::Zero(nx);  // Sᵀ F̂c
   Eigen::VectorXd dx = x;                           // D x: U_cont = ½ F̂cᵀ D x
   dx.segment(0, n).setZero();
@@ -114,22 +120,87 @@ struct RunSetup {
   const LinearPart* linear = nullptr;
   double omega = 0.0;
   BoundsOptions::Objective objective = BoundsOptions::kAmplitude;
-  double sign = 1.0;             // +1 minimises the objective, −1 maximises it
-  double objective_scale = 1.0;  // objective divided by this
-  Eigen::VectorXd x_scale;       // x = x_scale ∘ z
-  double residual_scale = 1.0;   // constraints g = R / residual_scale
+  double sign = 1.0;              // +1 minimises the objective, −1 maximises it
+  double objective_scale = 1.0;   // objective divided by this
+  double stall_tolerance = 1e-9;  // relative objective change that counts as no change
+  Eigen::VectorXd x_scale;        // x = x_scale ∘ z
+  double residual_scale = 1.0;    // constraints g = R / residual_scale
 };
+
+// The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,
+// when grad_x is given, its gradient in the unscaled variables. `e` must hold R at (x, α) for the
+// loss factor, and the Jacobians as well for its gradient.
+double Objective(const RunSetup& s, const Eigen::VectorXd& x, const HbmEvaluation& e,
+                 Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha) {
+  const HbmSystem& sys = *s.system;
+  const double factor = s.sign / s.objective_scale;
+  if (s.objective == BoundsOptions::kAmplitude) {
+    const int ia = sys.Index(sys.model().response_dof, 1);
+    const int ib = sys.Index(sys.model().response_dof, 2);
+    if (grad_x != nullptr) {
+      grad_x->setZero(sys.num_unknowns());
+      (*grad_x)[ia] = factor * 2.0 * x[ia];
+      (*grad_x)[ib] = factor * 2.0 * x[ib];
+      grad_alpha->setZero(sys.num_contacts());
+    }
+    return factor * (x[ia] * x[ia] + x[ib] * x[ib]);
+  }
+  const double eta = LossFactor(sys, *s.linear, s.omega, x, e, grad_x, grad_alpha);
+  if (grad_x != nullptr) {
+    *grad_x *= factor;
+    *grad_alpha *= factor;
+  }
+  return factor * eta;
+}
+
+// Whether the (feasible) start already satisfies the first-order optimality conditions: the
+// reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ (∂R/∂x)⁻ᵀ ∂φ/∂x vanishes (to `tolerance`) in every free
+// α direction and points out of the box at an active bound. This is typical on the plateaus of
+// the response over α (contacts that slip or whose first-period force saturates forget α), where
+// the interior-point method would only spend its iterations driving the barrier to zero.
+bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
+                     double tolerance) {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = req.alpha_jacobian = true;
+  s.system->Evaluate(x0, s.omega, alpha0, req, &e);
+  Eigen::VectorXd gx, ga;
+  Objective(s, x0, e, &gx, &ga);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
+  if (!(lu.rcond() > 1e-12)) return false;
+  const Eigen::VectorXd lambda = lu.solve(gx);
+  const Eigen::VectorXd g = ga - e.alpha_jacobian.transpose() * lambda;
+  if (!g.allFinite()) return false;
+  for (int c = 0; c < g.size(); ++c) {
+    const bool at_upper = alpha0[c] >= 1.0, at_lower = alpha0[c] <= -1.0;
+    // Minimising: at the upper bound the gradient may be negative, at the lower one positive.
+    const bool ok = at_upper ? g[c] <= tolerance
+                             : (at_lower ? g[c] >= -tolerance : std::abs(g[c]) <= tolerance);
+    if (!ok) return false;
+  }
+  return true;
+}
 
 // The NLP in scaled variables z = [x ⊘ x_scale, α], constraints g = R / residual_scale, dense
 // Jacobian, quasi-Newton Hessian.
 class BoundsNlp : public Ipopt::TNLP {
  public:
-  BoundsNlp(const RunSetup& setup, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0)
-      : s_(setup),
-        nx_(setup.system->num_unknowns()),
-        nc_(setup.system->num_contacts()),
-        x0_(x0),
-        alpha0_(alpha0) {}
+  explicit BoundsNlp(const HbmSystem& system)
+      : nx_(system.num_unknowns()), nc_(system.num_contacts()) {}
+
+  // Prepares the next run (the structure never changes, so Ipopt can re-optimise this object).
+  void Reset(const RunSetup& setup, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0) {
+    s_ = setup;
+    x0_ = x0;
+    alpha0_ = alpha0;
+    have_point_ = have_residual_ = have_jacobians_ = eval_ok_ = false;
+    finalized_ = false;
+    stalled_ = no_progress_ = false;
+    objectives_.clear();
+    errors_.clear();
+    last_error_ = 0.0;
+    status_ = Ipopt::UNASSIGNED;
+  }
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g,
                     Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) override {
@@ -166,33 +237,19 @@ class BoundsNlp : public Ipopt::TNLP {
   }
 
   bool eval_f(Ipopt::Index, const Ipopt::Number* z, bool new_z, Ipopt::Number& f) override {
-    if (s_.objective == BoundsOptions::kAmplitude) {
-      const int ia = AmplitudeIndex(1), ib = AmplitudeIndex(2);
-      const double a = z[ia] * s_.x_scale[ia], b = z[ib] * s_.x_scale[ib];
-      f = s_.sign * (a * a + b * b) / s_.objective_scale;
-      return std::isfinite(f);
-    }
-    if (!Update(z, new_z, false)) return false;
-    f = s_.sign * LossFactor(*s_.system, *s_.linear, s_.omega, x_, eval_, nullptr, nullptr) /
-        s_.objective_scale;
+    const bool need_residual = s_.objective == BoundsOptions::kLossFactor;
+    if (need_residual ? !Update(z, new_z, false) : !Unscaled(z, new_z)) return false;
+    f = Objective(s_, x_, eval_, nullptr, nullptr);
     return std::isfinite(f);
   }
 
-  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* z, bool new_z,
-                   Ipopt::Number* grad) override {
-    std::fill(grad, grad + n, 0.0);
-    if (s_.objective == BoundsOptions::kAmplitude) {
-      for (int j : {1, 2}) {
-        const int i = AmplitudeIndex(j);
-        grad[i] = s_.sign * 2.0 * z[i] * s_.x_scale[i] * s_.x_scale[i] / s_.objective_scale;
-      }
-      return true;
-    }
-    if (!Update(z, new_z, true)) return false;
+  bool eval_grad_f(Ipopt::Index, const Ipopt::Number* z, bool new_z, Ipopt::Number* grad) override {
+    const bool need_jacobians = s_.objective == BoundsOptions::kLossFactor;
+    if (need_jacobians ? !Update(z, new_z, true) : !Unscaled(z, new_z)) return false;
     Eigen::VectorXd gx, ga;
-    LossFactor(*s_.system, *s_.linear, s_.omega, x_, eval_, &gx, &ga);
-    for (int i = 0; i < nx_; ++i) grad[i] = s_.sign * gx[i] * s_.x_scale[i] / s_.objective_scale;
-    for (int c = 0; c < nc_; ++c) grad[nx_ + c] = s_.sign * ga[c] / s_.objective_scale;
+    Objective(s_, x_, eval_, &gx, &ga);
+    for (int i = 0; i < nx_; ++i) grad[i] = gx[i] * s_.x_scale[i];
+    for (int c = 0; c < nc_; ++c) grad[nx_ + c] = ga[c];
     return gx.allFinite() && ga.allFinite();
   }
 
@@ -227,6 +284,50 @@ class BoundsNlp : public Ipopt::TNLP {
     return true;
   }
 
+  // Watches the feasible iterates of a run for two symptoms of the kinks of the piecewise-smooth
+  // problem (typically where a full-stick contact's first-period force starts to saturate, so
+  // the objective turns flat in α), where no KKT point exists and the barrier keeps the iterates
+  // crawling along the kink:
+  //  - stalled: the objective stays constant (relative stall_tolerance) over kStallIterations
+  //    iterations: a nonsmooth local optimum, reported as converged with its own message;
+  //  - no progress: over kSlowIterations iterations the objective improves by less than
+  //    kSlowProgress (relative) and the KKT error does not fall tenfold: stopped and reported as
+  //    failed (it would otherwise crawl to max_iterations).
+  bool intermediate_callback(Ipopt::AlgorithmMode mode, Ipopt::Index, Ipopt::Number obj,
+                             Ipopt::Number inf_pr, Ipopt::Number, Ipopt::Number, Ipopt::Number,
+                             Ipopt::Number, Ipopt::Number, Ipopt::Number, Ipopt::Index,
+                             const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities* cq) override {
+    if (cq != nullptr) last_error_ = cq->curr_nlp_error();
+    if (mode != Ipopt::RegularMode || !(inf_pr <= kStallFeasibility)) {
+      objectives_.clear();
+      errors_.clear();
+      return true;
+    }
+    objectives_.push_back(obj);
+    errors_.push_back(last_error_);
+    const int count = static_cast<int>(objectives_.size());
+    const double scale = std::max(1.0, std::abs(obj));
+    auto span = [this, count](int last) {
+      const auto first = objectives_.begin() + (count - last);
+      const auto [lo, hi] = std::minmax_element(first, objectives_.end());
+      return *hi - *lo;
+    };
+    if (count > kStallIterations && span(kStallIterations + 1) <= s_.stall_tolerance * scale) {
+      stalled_ = true;
+      return false;
+    }
+    if (count > kSlowIterations) {
+      const double gain = objectives_[count - 1 - kSlowIterations] - obj;  // objective decrease
+      if (gain < kSlowProgress * scale &&
+          !(last_error_ < 0.1 * errors_[count - 1 - kSlowIterations])) {
+        no_progress_ = true;
+        return false;
+      }
+    }
+    return true;
+  }
+
   void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index, const Ipopt::Number* z,
                          const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index,
                          const Ipopt::Number*, const Ipopt::Number*, Ipopt::Number,
@@ -237,15 +338,14 @@ class BoundsNlp : public Ipopt::TNLP {
   }
 
   bool finalized() const { return finalized_; }
+  bool stalled() const { return stalled_; }
+  bool no_progress() const { return no_progress_; }
+  double last_error() const { return last_error_; }
   Ipopt::SolverReturn status() const { return status_; }
   const Eigen::VectorXd& x_final() const { return x_final_; }
   const Eigen::VectorXd& alpha_final() const { return alpha_final_; }
 
  private:
-  int AmplitudeIndex(int coefficient) const {
-    return s_.system->Index(s_.system->model().response_dof, coefficient);
-  }
-
   // α is clamped to [−1, 1]: Ipopt may relax the bounds by a hair.
   void Unscale(const Ipopt::Number* z, Eigen::VectorXd* x, Eigen::VectorXd* alpha) const {
     x->resize(nx_);
@@ -254,12 +354,19 @@ class BoundsNlp : public Ipopt::TNLP {
     for (int c = 0; c < nc_; ++c) (*alpha)[c] = std::clamp(z[nx_ + c], -1.0, 1.0);
   }
 
-  // Evaluates R (and the Jacobians when asked) at z unless the cache already holds them.
-  bool Update(const Ipopt::Number* z, bool new_z, bool jacobians) {
-    if (new_z || !have_residual_) {
+  // Makes x_, alpha_ the unscaled z (dropping cached evaluations when z is new).
+  bool Unscaled(const Ipopt::Number* z, bool new_z) {
+    if (new_z || !have_point_) {
       have_residual_ = have_jacobians_ = false;
       Unscale(z, &x_, &alpha_);
+      have_point_ = true;
     }
+    return true;
+  }
+
+  // Evaluates R (and the Jacobians when asked) at z unless the cache already holds them.
+  bool Update(const Ipopt::Number* z, bool new_z, bool jacobians) {
+    Unscaled(z, new_z);
     if (have_residual_ && (have_jacobians_ || !jacobians)) return eval_ok_;
     HbmRequest req;
     req.jacobian = req.alpha_jacobian = jacobians;
@@ -280,42 +387,66 @@ class BoundsNlp : public Ipopt::TNLP {
   Eigen::VectorXd x0_, alpha0_;
   Eigen::VectorXd x_, alpha_;
   HbmEvaluation eval_;
-  bool have_residual_ = false, have_jacobians_ = false, eval_ok_ = false;
+  bool have_point_ = false, have_residual_ = false, have_jacobians_ = false, eval_ok_ = false;
   bool finalized_ = false;
+  bool stalled_ = false, no_progress_ = false;
+  std::vector<double> objectives_, errors_;  // over the current streak of feasible iterations
+  double last_error_ = 0.0;                  // scaled KKT error of the last iterate
   Ipopt::SolverReturn status_ = Ipopt::UNASSIGNED;
   Eigen::VectorXd x_final_, alpha_final_;
 };
 
 const char* SolverReturnText(Ipopt::SolverReturn r) {
   switch (r) {
-    case Ipopt::SUCCESS: return "optimal point found";
-    case Ipopt::MAXITER_EXCEEDED: return "maximum number of iterations exceeded";
-    case Ipopt::CPUTIME_EXCEEDED: return "maximum CPU time exceeded";
-    case Ipopt::STOP_AT_TINY_STEP: return "search direction became too small";
-    case Ipopt::STOP_AT_ACCEPTABLE_POINT: return "solved to acceptable level only";
-    case Ipopt::LOCAL_INFEASIBILITY: return "converged to a point of local infeasibility";
-    case Ipopt::USER_REQUESTED_STOP: return "stopped by the user";
-    case Ipopt::FEASIBLE_POINT_FOUND: return "feasible point found";
-    case Ipopt::DIVERGING_ITERATES: return "iterates diverging";
-    case Ipopt::RESTORATION_FAILURE: return "restoration phase failed";
-    case Ipopt::ERROR_IN_STEP_COMPUTATION: return "error in step computation";
-    case Ipopt::INVALID_NUMBER_DETECTED: return "invalid number in an evaluation";
-    case Ipopt::TOO_FEW_DEGREES_OF_FREEDOM: return "too few degrees of freedom";
-    case Ipopt::INVALID_OPTION: return "invalid option";
-    case Ipopt::OUT_OF_MEMORY: return "out of memory";
-    case Ipopt::INTERNAL_ERROR: return "internal error";
-    case Ipopt::UNASSIGNED: break;
+    case Ipopt::SUCCESS:
+      return "optimal point found";
+    case Ipopt::MAXITER_EXCEEDED:
+      return "maximum number of iterations exceeded";
+    case Ipopt::CPUTIME_EXCEEDED:
+      return "maximum CPU time exceeded";
+    case Ipopt::STOP_AT_TINY_STEP:
+      return "search direction became too small";
+    case Ipopt::STOP_AT_ACCEPTABLE_POINT:
+      return "solved to acceptable level only";
+    case Ipopt::LOCAL_INFEASIBILITY:
+      return "converged to a point of local infeasibility";
+    case Ipopt::USER_REQUESTED_STOP:
+      return "stopped by the user";
+    case Ipopt::FEASIBLE_POINT_FOUND:
+      return "feasible point found";
+    case Ipopt::DIVERGING_ITERATES:
+      return "iterates diverging";
+    case Ipopt::RESTORATION_FAILURE:
+      return "restoration phase failed";
+    case Ipopt::ERROR_IN_STEP_COMPUTATION:
+      return "error in step computation";
+    case Ipopt::INVALID_NUMBER_DETECTED:
+      return "invalid number in an evaluation";
+    case Ipopt::TOO_FEW_DEGREES_OF_FREEDOM:
+      return "too few degrees of freedom";
+    case Ipopt::INVALID_OPTION:
+      return "invalid option";
+    case Ipopt::OUT_OF_MEMORY:
+      return "out of memory";
+    case Ipopt::INTERNAL_ERROR:
+      return "internal error";
+    case Ipopt::UNASSIGNED:
+      break;
   }
   return "no result";
 }
 
 BoundStatus MapStatus(Ipopt::SolverReturn r) {
   switch (r) {
-    case Ipopt::SUCCESS: return BoundStatus::kConverged;
+    case Ipopt::SUCCESS:
+      return BoundStatus::kConverged;
     case Ipopt::MAXITER_EXCEEDED:
-    case Ipopt::CPUTIME_EXCEEDED: return BoundStatus::kMaxIterations;
-    case Ipopt::LOCAL_INFEASIBILITY: return BoundStatus::kInfeasible;
-    default: return BoundStatus::kFailed;
+    case Ipopt::CPUTIME_EXCEEDED:
+      return BoundStatus::kMaxIterations;
+    case Ipopt::LOCAL_INFEASIBILITY:
+      return BoundStatus::kInfeasible;
+    default:
+      return BoundStatus::kFailed;
   }
 }
 
@@ -377,13 +508,17 @@ std::string FormatVector(const Eigen::VectorXd& v) {
 
 // One optimisation run from a feasible start; the result is verified (and polished by Newton at
 // the final α so that R = 0 holds to the harmonic-balance tolerance).
-BoundSolution Run(Ipopt::IpoptApplication& app, const RunSetup& setup, const Eigen::VectorXd& x0,
+BoundSolution Run(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<BoundsNlp>& nlp,
+                  bool* first_run, const RunSetup& setup, const Eigen::VectorXd& x0,
                   const Eigen::VectorXd& alpha0, int seed) {
   const HbmSystem& sys = *setup.system;
   BoundSolution out;
   out.seed = seed;
-  Ipopt::SmartPtr<BoundsNlp> nlp = new BoundsNlp(setup, x0, alpha0);
-  const Ipopt::ApplicationReturnStatus rc = app.OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(nlp));
+  nlp->Reset(setup, x0, alpha0);
+  const Ipopt::SmartPtr<Ipopt::TNLP> tnlp = Ipopt::GetRawPtr(nlp);
+  const Ipopt::ApplicationReturnStatus rc =
+      *first_run ? app.OptimizeTNLP(tnlp) : app.ReOptimizeTNLP(tnlp);
+  if (nlp->finalized()) *first_run = false;
   Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app.Statistics();
   if (Ipopt::IsValid(stats)) out.iterations = stats->IterationCount();
   if (!nlp->finalized()) {
@@ -397,6 +532,20 @@ BoundSolution Run(Ipopt::IpoptApplication& app, const RunSetup& setup, const Eig
   }
   out.status = MapStatus(nlp->status());
   out.message = std::string("Ipopt: ") + SolverReturnText(nlp->status());
+  if (nlp->status() == Ipopt::USER_REQUESTED_STOP && nlp->stalled()) {
+    out.status = BoundStatus::kConverged;
+    std::ostringstream os;
+    os << "objective stationary over " << kStallIterations
+       << " feasible iterations at a nonsmooth point (KKT error " << nlp->last_error()
+       << " stays above the tolerance)";
+    out.message = os.str();
+  } else if (nlp->status() == Ipopt::USER_REQUESTED_STOP && nlp->no_progress()) {
+    out.status = BoundStatus::kFailed;
+    std::ostringstream os;
+    os << "stopped: no progress over " << kSlowIterations
+       << " feasible iterations along a nonsmooth ridge (KKT error " << nlp->last_error() << ")";
+    out.message = os.str();
+  }
   out.x = nlp->x_final();
   out.alpha = nlp->alpha_final();
   if (!out.x.allFinite()) {
@@ -411,9 +560,8 @@ BoundSolution Run(Ipopt::IpoptApplication& app, const RunSetup& setup, const Eig
   Eigen::VectorXd polished = out.x;
   const NewtonSummary ns =
       SolveNewton(HbmAtFrequency(sys, setup.omega, out.alpha), NewtonOptions{}, &polished);
-  if (ns.IsSolutionUsable() &&
-      std::abs(sys.Amplitude(polished) - sys.Amplitude(out.x)) <=
-          1e-3 * std::max(sys.Amplitude(out.x), 1e-300)) {
+  if (ns.IsSolutionUsable() && std::abs(sys.Amplitude(polished) - sys.Amplitude(out.x)) <=
+                                   1e-3 * std::max(sys.Amplitude(out.x), 1e-300)) {
     out.x = polished;
   }
   Describe(sys, setup.omega, &out);
@@ -484,17 +632,19 @@ std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts) {
   add(Eigen::VectorXd::Constant(n, -0.5));
   add(alt);
   add(-alt);
-  add(Eigen::VectorXd::Constant(n, 1.0));
-  add(Eigen::VectorXd::Constant(n, -1.0));
   return seeds;
 }
 
 std::string ToString(BoundStatus status) {
   switch (status) {
-    case BoundStatus::kConverged: return "converged";
-    case BoundStatus::kMaxIterations: return "max-iterations";
-    case BoundStatus::kInfeasible: return "infeasible";
-    case BoundStatus::kFailed: return "failed";
+    case BoundStatus::kConverged:
+      return "converged";
+    case BoundStatus::kMaxIterations:
+      return "max-iterations";
+    case BoundStatus::kInfeasible:
+      return "infeasible";
+    case BoundStatus::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -522,8 +672,9 @@ std::string BoundsResult::BriefReport() const {
   one("max", max);
   os << "  seeds: " << seeds_tried << " tried, " << seeds_converged << " fully converged, "
      << start_failures << " start failures, " << min_failures << " failed min runs, "
-     << max_failures << " failed max runs; spread of the optimum over seeds: min " << spread_min
-     << ", max " << spread_max;
+     << max_failures << " failed max runs, " << optimizer_runs
+     << " optimiser runs (the others started at a KKT point); spread of the optimum over "
+     << "seeds: min " << spread_min << ", max " << spread_max;
   return os.str();
 }
 
@@ -560,29 +711,30 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
   setup.omega = omega;
   setup.objective = options.objective;
   setup.residual_scale = system.ResidualScale();
+  setup.stall_tolerance = options.tolerance;
   setup.x_scale.resize(system.num_unknowns());
   for (int j = 0; j < nh; ++j) {
     const double block = x_stick.segment(j * n, n).lpNorm<Eigen::Infinity>();
     setup.x_scale.segment(j * n, n).setConstant(std::max(block, 1e-6 * x_ref));
   }
 
-#ifdef BOUNDS_DEBUG
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication(true);
-  app->Options()->SetIntegerValue("print_level", BOUNDS_DEBUG);
-#else
+  // No console journalist: the library never prints.
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication(false);
   app->Options()->SetIntegerValue("print_level", 0);
-#endif
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
-  app->Options()->SetNumericValue("constr_viol_tol", 1e-10);
+  app->Options()->SetNumericValue("constr_viol_tol", 1e-8);
   app->Options()->SetStringValue("hessian_approximation", "limited-memory");
   app->Options()->SetStringValue("mu_strategy", "adaptive");
-  if (app->Initialize("") != Ipopt::Solve_Succeeded) {
+  app->Options()->SetStringValue("mu_oracle", "loqo");
+  app->Options()->SetIntegerValue("acceptable_iter", 0);  // no "acceptable" exits: see Run
+  if (app->Initialize("") != Ipopt::Solve_Succeeded) {    // "": no ipopt.opt is read
     throw std::runtime_error("ComputeBounds: Ipopt failed to initialise");
   }
 
+  Ipopt::SmartPtr<BoundsNlp> nlp = new BoundsNlp(system);
+  bool first_run = true;
   std::vector<Eigen::VectorXd> starts;
   bool have_min = false, have_max = false;
   double min_lo = 0, min_hi = 0, max_lo = 0, max_hi = 0;
@@ -597,8 +749,8 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
       const double y0 = system.Amplitude(x0);
       setup.objective_scale = std::max(y0 * y0, 1e-300);
     } else {
-      setup.objective_scale = std::max(std::abs(system.Energies(x0, omega, seeds[s]).loss_factor()),
-                                       1e-6);
+      const double eta0 = system.Energies(x0, omega, seeds[s]).loss_factor();
+      setup.objective_scale = std::max(std::abs(eta0), 1e-6);
     }
     bool both = true;
     for (int dir = 0; dir < 2; ++dir) {
@@ -607,15 +759,21 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
       const bool amp = options.objective == BoundsOptions::kAmplitude;
       setup.sign = (maximise_response == amp) ? -1.0 : 1.0;
       BoundSolution sol;
-      if (nc == 0) {  // nothing to optimise: the start is the unique solution
+      auto accept_start = [&](const char* why) {
         sol.x = x0;
         sol.alpha = seeds[s];
         sol.seed = s;
         sol.status = BoundStatus::kConverged;
-        sol.message = "no contacts: unique response";
+        sol.message = why;
         Describe(system, omega, &sol);
+      };
+      if (nc == 0) {
+        accept_start("no contacts: unique response");
+      } else if (StartIsKktPoint(setup, x0, seeds[s], options.tolerance)) {
+        accept_start("the start is already a KKT point (zero reduced gradient in alpha)");
       } else {
-        sol = Run(*app, setup, x0, seeds[s], s);
+        sol = Run(*app, nlp, &first_run, setup, x0, seeds[s], s);
+        ++result.optimizer_runs;
       }
       BoundSolution& best = maximise_response ? result.max : result.min;
       bool& have = maximise_response ? have_max : have_min;

@@ -1,0 +1,270 @@
+#include "fricrom/bounds.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "fricrom/frf.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+HbmSystem& Baseline() {
+  static HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
+  return sys;
+}
+
+std::string Regimes(const std::vector<ContactRegime>& regimes) {
+  std::string s;
+  for (ContactRegime r : regimes) s += (s.empty() ? "" : ", ") + ToString(r);
+  return s;
+}
+
+// Independent check of a bound: R = 0, α inside the box, amplitude consistent with x.
+void ExpectAdmissible(const HbmSystem& sys, double freq_hz, const BoundSolution& s) {
+  ASSERT_EQ(s.x.size(), sys.num_unknowns());
+  ASSERT_EQ(s.alpha.size(), sys.num_contacts());
+  EXPECT_LE(s.alpha.cwiseAbs().maxCoeff(), 1.0);
+  HbmEvaluation e;
+  sys.Evaluate(s.x, kTwoPi * freq_hz, s.alpha, HbmRequest{}, &e);
+  EXPECT_LE(e.residual.norm(), 1e-6 * sys.ResidualScale());
+  EXPECT_DOUBLE_EQ(s.amplitude, sys.Amplitude(s.x));
+  EXPECT_EQ(s.regimes.size(), static_cast<size_t>(sys.num_contacts()));
+}
+
+class BaselineBounds : public ::testing::TestWithParam<double> {};
+
+// (a) Both bounds converge, are admissible and ordered.
+TEST_P(BaselineBounds, BothBoundsConvergeAndAreOrdered) {
+  const double f = GetParam();
+  const BoundsResult r = ComputeBounds(Baseline(), f, BoundsOptions{});
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_EQ(r.min.status, BoundStatus::kConverged);
+  EXPECT_EQ(r.max.status, BoundStatus::kConverged);
+  EXPECT_LE(r.min.amplitude, r.max.amplitude);
+  EXPECT_DOUBLE_EQ(r.freq_hz, f);
+  EXPECT_EQ(r.seeds_tried, 5);
+  EXPECT_GE(r.seeds_converged, 1);
+  EXPECT_GE(r.spread_min, 0.0);
+  EXPECT_GE(r.spread_max, 0.0);
+  ExpectAdmissible(Baseline(), f, r.min);
+  ExpectAdmissible(Baseline(), f, r.max);
+  EXPECT_GE(r.robustness(), 0.0);
+  EXPECT_LE(r.robustness(), 1.0);
+  std::printf("[bounds] %.0f Hz: y_min %.6e m [%s], y_max %.6e m [%s], R %.4f\n", f,
+              r.min.amplitude, Regimes(r.min.regimes).c_str(), r.max.amplitude,
+              Regimes(r.max.regimes).c_str(), r.robustness());
+}
+
+// (b) Sampling certificate: every converged harmonic-balance solution at a sampled α (the 16
+// corners of the box and seeded random points) lies within the computed bounds.
+TEST_P(BaselineBounds, SampledResponsesLieWithinTheBounds) {
+  const double f = GetParam();
+  const HbmSystem& sys = Baseline();
+  const BoundsResult r = ComputeBounds(sys, f, BoundsOptions{});
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+
+  std::vector<Eigen::VectorXd> samples;
+  for (int m = 0; m < 16; ++m) {
+    Eigen::VectorXd a(4);
+    for (int c = 0; c < 4; ++c) a[c] = ((m >> c) & 1) ? 1.0 : -1.0;
+    samples.push_back(a);
+  }
+  std::mt19937 rng(20240611);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 0; k < 14; ++k) {
+    Eigen::VectorXd a(4);
+    for (int c = 0; c < 4; ++c) a[c] = uniform(rng);
+    samples.push_back(a);
+  }
+  int failed = 0;
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (const Eigen::VectorXd& a : samples) {
+    const FrfPoint p = SolveAtFrequencies(sys, a, {f}, FrfOptions{}).back();
+    if (p.status != SolverStatus::kConverged) {
+      ++failed;
+      continue;
+    }
+    lo = std::min(lo, p.amplitude);
+    hi = std::max(hi, p.amplitude);
+    EXPECT_GE(p.amplitude, r.min.amplitude * (1 - 1e-6)) << "alpha " << a.transpose();
+    EXPECT_LE(p.amplitude, r.max.amplitude * (1 + 1e-6)) << "alpha " << a.transpose();
+  }
+  const int n = static_cast<int>(samples.size());
+  EXPECT_LT(failed, 0.2 * n) << failed << " of " << n << " sampled solves failed";
+  RecordProperty("sampled_solves", n);
+  RecordProperty("sampled_failures", failed);
+  std::printf(
+      "[bounds] %.0f Hz certificate: %d samples, %d failed, sampled range [%.6e, %.6e], "
+      "bounds [%.6e, %.6e]\n",
+      f, n, failed, lo, hi, r.min.amplitude, r.max.amplitude);
+}
+
+INSTANTIATE_TEST_SUITE_P(Frequencies, BaselineBounds, ::testing::Values(262.0, 266.0),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return std::to_string(static_cast<int>(info.param)) + "Hz";
+                         });
+
+// (c) Near resonance the baseline has a response scatter (paper Fig. 9): the inner contacts 2, 3
+// stick over the whole period while the outer contacts 1, 4 alternate stick and slip.
+TEST(Bounds, BaselineHasAScatterNearResonance) {
+  const double f = 266.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const BoundsResult r = ComputeBounds(Baseline(), f, BoundsOptions{});
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_GT(r.max.amplitude - r.min.amplitude, 0.01 * r.max.amplitude) << r.BriefReport();
+  EXPECT_LT(r.robustness(), 0.99);
+  // The minimum response dissipates more: larger loss factor (paper Table 1).
+  EXPECT_GT(r.min.loss_factor, r.max.loss_factor);
+  const std::vector<ContactRegime> hybrid = {ContactRegime::kStickSlip, ContactRegime::kFullStick,
+                                             ContactRegime::kFullStick, ContactRegime::kStickSlip};
+  EXPECT_TRUE(r.min.regimes == hybrid || r.max.regimes == hybrid)
+      << "min: " << Regimes(r.min.regimes) << "; max: " << Regimes(r.max.regimes);
+  RecordProperty("compute_bounds_ms", std::to_string(ms));
+  std::printf("[bounds] %s\n[bounds] ComputeBounds took %.2f ms\n", r.BriefReport().c_str(), ms);
+}
+
+// At 262 Hz every contact sticks over the whole period (type b1): α moves the static state only
+// and the dynamic response is unique.
+TEST(Bounds, FullStickResponseIsUniqueBelowResonance) {
+  const BoundsResult r = ComputeBounds(Baseline(), 262.0, BoundsOptions{});
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_NEAR(r.min.amplitude, r.max.amplitude, 1e-6 * r.max.amplitude);
+  for (ContactRegime g : r.max.regimes) EXPECT_EQ(g, ContactRegime::kFullStick);
+}
+
+// (d) With μ = 1e9 every contact sticks at α = 0 and the dynamic response does not depend on the
+// static state as long as they all keep sticking. Note that α scales T(0) = α μ N(0): away from
+// α ≈ 0 the tangential preloads are astronomically large, the harmonic-balance starts of the
+// other default seeds do not converge (counted as start failures), and tiny seeds (|α| ~ 1e-8)
+// already reach static states with lift-off and a different response. The bounds over the
+// converged seeds coincide.
+TEST(Bounds, EverythingSticksWithHugeFriction) {
+  const Case cs = testing::LoadBaseline({{"mu", 1e9}});
+  const HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const BoundsResult r = ComputeBounds(sys, 266.0, BoundsOptions{});
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_GE(r.seeds_converged, 1);
+  EXPECT_NEAR(r.min.amplitude, r.max.amplitude, 1e-6 * r.max.amplitude) << r.BriefReport();
+  EXPECT_NEAR(r.robustness(), 1.0, 1e-6);
+  for (ContactRegime g : r.min.regimes) EXPECT_EQ(g, ContactRegime::kFullStick);
+  for (ContactRegime g : r.max.regimes) EXPECT_EQ(g, ContactRegime::kFullStick);
+  // The full-stick linear solution is then the exact first harmonic.
+  const Eigen::VectorXd lin = sys.StickLinearSolution(kTwoPi * 266.0);
+  EXPECT_NEAR(r.max.amplitude, sys.Amplitude(lin), 1e-6 * r.max.amplitude);
+  std::printf("[bounds] mu = 1e9: y %.6e m, %d of %d seed starts failed\n", r.max.amplitude,
+              r.start_failures, r.seeds_tried);
+}
+
+// From a start on a slope of the response over α the optimiser must actually move: down for the
+// minimum, up for the maximum.
+TEST(Bounds, OptimiserImprovesOnASlopedStart) {
+  const double f = 266.0;
+  const Eigen::VectorXd seed = Eigen::VectorXd::Constant(4, 0.5);
+  const FrfPoint start = SolveAtFrequencies(Baseline(), seed, {f}, FrfOptions{}).back();
+  ASSERT_EQ(start.status, SolverStatus::kConverged);
+  BoundsOptions opt;
+  opt.alpha_seeds = {seed};
+  const BoundsResult r = ComputeBounds(Baseline(), f, opt);
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_EQ(r.optimizer_runs, 2);
+  EXPECT_LT(r.min.amplitude, start.amplitude * (1 - 1e-3)) << r.BriefReport();
+  EXPECT_GT(r.max.amplitude, start.amplitude * (1 + 1e-3)) << r.BriefReport();
+  EXPECT_GT(r.min.iterations, 0);
+  ExpectAdmissible(Baseline(), f, r.min);
+  ExpectAdmissible(Baseline(), f, r.max);
+}
+
+// The paper's objective (Table 1): extreme loss factors give the same response bounds here.
+TEST(Bounds, LossFactorObjectiveFindsTheSameBounds) {
+  BoundsOptions opt;
+  const BoundsResult amp = ComputeBounds(Baseline(), 266.0, opt);
+  opt.objective = BoundsOptions::kLossFactor;
+  const BoundsResult eta = ComputeBounds(Baseline(), 266.0, opt);
+  ASSERT_TRUE(amp.IsUsable()) << amp.BriefReport();
+  ASSERT_TRUE(eta.IsUsable()) << eta.BriefReport();
+  EXPECT_NEAR(eta.min.amplitude, amp.min.amplitude, 1e-6 * amp.max.amplitude);
+  EXPECT_NEAR(eta.max.amplitude, amp.max.amplitude, 1e-6 * amp.max.amplitude);
+  EXPECT_GE(eta.min.loss_factor, eta.max.loss_factor);
+}
+
+// A run that fails is counted and never chosen as a bound.
+TEST(Bounds, FailedRunsAreCountedNotUsed) {
+  BoundsOptions opt;
+  opt.max_iterations = 1;  // nothing that needs the optimiser can converge
+  opt.alpha_seeds = {Eigen::VectorXd::Constant(4, 0.5)};
+  const BoundsResult r = ComputeBounds(Baseline(), 266.0, opt);
+  EXPECT_EQ(r.min_failures + r.max_failures, 2);
+  EXPECT_EQ(r.seeds_converged, 0);
+  EXPECT_FALSE(r.IsUsable());
+  EXPECT_EQ(r.min.status, BoundStatus::kMaxIterations);
+  EXPECT_TRUE(std::isnan(r.robustness()));
+}
+
+// (e) Contract violations.
+TEST(Bounds, OptionsValidation) {
+  std::string err;
+  EXPECT_TRUE(BoundsOptions{}.IsValid(&err)) << err;
+  BoundsOptions o;
+  o.max_iterations = 0;
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("max_iterations"), std::string::npos);
+  o = BoundsOptions{};
+  o.tolerance = 0.0;
+  EXPECT_FALSE(o.IsValid(&err));
+  o.tolerance = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("tolerance"), std::string::npos);
+  o = BoundsOptions{};
+  o.alpha_seeds = {Eigen::Vector4d::Zero(), Eigen::Vector3d::Zero()};
+  EXPECT_FALSE(o.IsValid(&err));
+  o.alpha_seeds = {Eigen::Vector4d(0.0, 1.5, 0.0, 0.0)};
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("[-1, 1]"), std::string::npos);
+  o.alpha_seeds = {Eigen::Vector4d(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)};
+  EXPECT_FALSE(o.IsValid(&err));
+  o = BoundsOptions{};
+  o.objective = static_cast<BoundsOptions::Objective>(7);
+  EXPECT_FALSE(o.IsValid(&err));
+
+  o = BoundsOptions{};
+  o.max_iterations = -3;
+  EXPECT_THROW(ComputeBounds(Baseline(), 266.0, o), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(Baseline(), 0.0, BoundsOptions{}), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(Baseline(), -5.0, BoundsOptions{}), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(Baseline(), std::numeric_limits<double>::quiet_NaN(), BoundsOptions{}),
+               std::invalid_argument);
+  o = BoundsOptions{};
+  o.alpha_seeds = {Eigen::Vector3d::Zero()};  // the baseline has 4 contacts
+  EXPECT_THROW(ComputeBounds(Baseline(), 266.0, o), std::invalid_argument);
+}
+
+TEST(Bounds, DefaultSeedsAndStatusNames) {
+  const auto four = DefaultAlphaSeeds(4);
+  ASSERT_EQ(four.size(), 5u);
+  EXPECT_TRUE(four[0].isZero());
+  EXPECT_EQ(four[3], Eigen::Vector4d(1, -1, 1, -1));
+  EXPECT_EQ(four[4], Eigen::Vector4d(-1, 1, -1, 1));
+  EXPECT_EQ(DefaultAlphaSeeds(1).size(), 5u);  // 0, ±0.5, ±1
+  EXPECT_EQ(DefaultAlphaSeeds(0).size(), 1u);
+  EXPECT_THROW(DefaultAlphaSeeds(-1), std::invalid_argument);
+  EXPECT_EQ(ToString(BoundStatus::kConverged), "converged");
+  EXPECT_EQ(ToString(BoundStatus::kMaxIterations), "max-iterations");
+  EXPECT_EQ(ToString(BoundStatus::kInfeasible), "infeasible");
+  EXPECT_EQ(ToString(BoundStatus::kFailed), "failed");
+}
+
+}  // namespace
+}  // namespace fricrom
