@@ -1,0 +1,100 @@
+// Robust design (paper §3): robustness R = 1 − δ/y_max of the response bounds at the resonance,
+// a manual sweep of a design parameter, and the nested optimisation (NOA) that finds the most
+// robust parameter value. The model at a parameter value comes from a caller-supplied factory
+// (the CLI rebuilds the case with `--set name=value`), so any named parameter can be designed.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fricrom/bounds.h"
+#include "fricrom/hbm.h"
+#include "fricrom/model.h"
+
+namespace fricrom {
+
+using ModelFactory = std::function<Model(double parameter)>;
+
+// Frequency of the peak of the maximum-response bound y_max(f) in [lo, hi]: a coarse scan of
+// `scan_points` bound solves, then golden-section refinement to `tolerance_hz`.
+struct ResonanceSearchOptions {
+  double lo_hz = 0.0;
+  double hi_hz = 0.0;
+  int scan_points = 11;
+  double tolerance_hz = 0.02;
+  bool IsValid(std::string* error) const;
+};
+struct ResonanceResult {
+  double freq_hz = 0.0;
+  BoundsResult bounds;  // the bounds at freq_hz
+  int bound_solves = 0;
+};
+ResonanceResult FindResonance(const HbmSystem& system, const ResonanceSearchOptions& search,
+                              const BoundsOptions& bounds);
+
+struct RobustnessPoint {
+  double parameter = 0.0;
+  double freq_hz = 0.0;
+  BoundsResult bounds;
+  double robustness = 0.0;  // NaN when a bound did not converge
+  int bound_solves = 0;
+};
+
+struct SweepOptions {
+  HbmOptions hbm;
+  BoundsOptions bounds;
+  // R is evaluated at reference_freq_hz when track_peak is false (the NOA's ω_ref), else at the
+  // peak of y_max located for every parameter value within `search`.
+  double reference_freq_hz = 0.0;
+  bool track_peak = false;
+  ResonanceSearchOptions search;
+  bool warm_start = true;  // add the previous point's optimal α to the seeds
+  bool IsValid(std::string* error) const;
+};
+
+// Progress: (done, total).
+using DesignProgress = std::function<void(int, int)>;
+
+std::vector<RobustnessPoint> SweepRobustness(const ModelFactory& factory,
+                                             const std::vector<double>& values,
+                                             const SweepOptions& options,
+                                             const DesignProgress& progress = {});
+
+struct NoaOptions {
+  enum Objective {
+    kLossFactorGap,  // η2 − η1 (paper §3.2): loss factors of the minimum and maximum response
+    kOneMinusR,      // 1 − R directly
+  };
+  double lower = 0.0;  // parameter interval [lower, upper]
+  double upper = 1.0;
+  Objective objective = kLossFactorGap;
+  // Outer method: a global scan of `scan_points` values, then golden-section refinement of the
+  // best bracket to `parameter_tolerance`. R(p) has plateaus (R = 1 over an interval) and can be
+  // monotone up to the interval's end, where the paper's gradient method stopped early.
+  int scan_points = 9;
+  double parameter_tolerance = 2e-3;
+  SweepOptions inner;  // frequency choice and inner bound options (reference_freq_hz required)
+  bool IsValid(std::string* error) const;
+};
+
+struct NoaResult {
+  double p_opt = 0.0;
+  double robustness = 0.0;
+  double eta1 = 0.0;  // loss factor at the maximum response (configuration #1)
+  double eta2 = 0.0;  // loss factor at the minimum response (configuration #2)
+  double objective = 0.0;
+  int outer_iterations = 0;
+  int inner_solves = 0;  // bound problems solved (two per outer evaluation: min and max)
+  double wall_s = 0.0;
+  std::vector<RobustnessPoint> history;  // every outer evaluation, in order
+  bool converged = false;
+  std::string message;
+  std::string BriefReport() const;
+};
+
+NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
+                 const DesignProgress& progress = {});
+
+}  // namespace fricrom

@@ -1,0 +1,281 @@
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "fricrom/design.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kGolden = 0.6180339887498949;
+
+double Robustness(const BoundsResult& b) { return b.robustness(); }
+
+// Seeds: the configured (or default) ones plus, for warm starts, the optima of the last point.
+BoundsOptions WithSeeds(const BoundsOptions& base, int num_contacts, const BoundsResult* previous) {
+  BoundsOptions o = base;
+  if (o.alpha_seeds.empty()) o.alpha_seeds = DefaultAlphaSeeds(num_contacts);
+  if (previous) {
+    if (previous->min.IsUsable()) o.alpha_seeds.push_back(previous->min.alpha);
+    if (previous->max.IsUsable()) o.alpha_seeds.push_back(previous->max.alpha);
+  }
+  return o;
+}
+
+}  // namespace
+
+bool ResonanceSearchOptions::IsValid(std::string* error) const {
+  if (!(lo_hz > 0.0 && hi_hz > lo_hz)) {
+    *error = "ResonanceSearchOptions: need 0 < lo_hz < hi_hz";
+    return false;
+  }
+  if (scan_points < 3 || !(tolerance_hz > 0.0)) {
+    *error = "ResonanceSearchOptions: need scan_points >= 3 and tolerance_hz > 0";
+    return false;
+  }
+  return true;
+}
+
+bool SweepOptions::IsValid(std::string* error) const {
+  if (!hbm.IsValid(error) || !bounds.IsValid(error)) return false;
+  if (track_peak) return search.IsValid(error);
+  if (!(reference_freq_hz > 0.0)) {
+    *error = "SweepOptions.reference_freq_hz must be > 0 (or set track_peak)";
+    return false;
+  }
+  return true;
+}
+
+bool NoaOptions::IsValid(std::string* error) const {
+  if (!(upper > lower) || !std::isfinite(lower) || !std::isfinite(upper)) {
+    *error = "NoaOptions: need lower < upper (finite)";
+    return false;
+  }
+  if (scan_points < 3 || !(parameter_tolerance > 0.0)) {
+    *error = "NoaOptions: need scan_points >= 3 and parameter_tolerance > 0";
+    return false;
+  }
+  return inner.IsValid(error);
+}
+
+ResonanceResult FindResonance(const HbmSystem& system, const ResonanceSearchOptions& search,
+                              const BoundsOptions& bounds) {
+  std::string error;
+  if (!search.IsValid(&error) || !bounds.IsValid(&error)) throw std::invalid_argument(error);
+  ResonanceResult r;
+  auto ymax = [&](double f, BoundsResult* out) {
+    *out = ComputeBounds(system, f, bounds);
+    ++r.bound_solves;
+    return out->max.IsUsable() ? out->max.amplitude : -1.0;
+  };
+  const int n = search.scan_points;
+  std::vector<double> f(n), y(n);
+  std::vector<BoundsResult> b(n);
+  int best = 0;
+  for (int i = 0; i < n; ++i) {
+    f[i] = search.lo_hz + (search.hi_hz - search.lo_hz) * i / (n - 1);
+    y[i] = ymax(f[i], &b[i]);
+    if (y[i] > y[best]) best = i;
+  }
+  // Golden-section refinement of the bracket around the best scan point.
+  double a = f[std::max(best - 1, 0)], d = f[std::min(best + 1, n - 1)];
+  double bx = d - kGolden * (d - a), cx = a + kGolden * (d - a);
+  BoundsResult rb, rc;
+  double yb = ymax(bx, &rb), yc = ymax(cx, &rc);
+  while (d - a > search.tolerance_hz) {
+    if (yb >= yc) {
+      d = cx;
+      cx = bx;
+      yc = yb;
+      rc = rb;
+      bx = d - kGolden * (d - a);
+      yb = ymax(bx, &rb);
+    } else {
+      a = bx;
+      bx = cx;
+      yb = yc;
+      rb = rc;
+      cx = a + kGolden * (d - a);
+      yc = ymax(cx, &rc);
+    }
+  }
+  r.freq_hz = yb >= yc ? bx : cx;
+  r.bounds = yb >= yc ? rb : rc;
+  if (y[best] > std::max(yb, yc)) {  // the scan point itself is higher (flat top)
+    r.freq_hz = f[best];
+    r.bounds = b[best];
+  }
+  return r;
+}
+
+std::vector<RobustnessPoint> SweepRobustness(const ModelFactory& factory,
+                                             const std::vector<double>& values,
+                                             const SweepOptions& options,
+                                             const DesignProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  std::vector<RobustnessPoint> out;
+  const BoundsResult* previous = nullptr;
+  for (double p : values) {
+    const Model model = factory(p);
+    HbmSystem system(model, options.hbm);
+    const BoundsOptions bo = WithSeeds(options.bounds, system.num_contacts(),
+                                       options.warm_start ? previous : nullptr);
+    RobustnessPoint pt;
+    pt.parameter = p;
+    if (options.track_peak) {
+      const ResonanceResult rr = FindResonance(system, options.search, bo);
+      pt.freq_hz = rr.freq_hz;
+      pt.bounds = rr.bounds;
+      pt.bound_solves = rr.bound_solves;
+    } else {
+      pt.freq_hz = options.reference_freq_hz;
+      pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
+      pt.bound_solves = 1;
+    }
+    pt.robustness = Robustness(pt.bounds);
+    out.push_back(std::move(pt));
+    previous = &out.back().bounds;
+    if (progress) progress(static_cast<int>(out.size()), static_cast<int>(values.size()));
+  }
+  return out;
+}
+
+std::string NoaResult::BriefReport() const {
+  std::ostringstream s;
+  s << "NOA: p_opt = " << p_opt << ", R = " << robustness << ", eta1 = " << eta1
+    << ", eta2 = " << eta2 << " (" << outer_iterations << " outer iterations, " << inner_solves
+    << " inner bound solves, " << wall_s << " s)" << (converged ? "" : " NOT CONVERGED");
+  if (!message.empty()) s << " [" << message << "]";
+  return s.str();
+}
+
+NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
+                 const DesignProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  const auto t0 = std::chrono::steady_clock::now();
+  NoaResult res;
+  const double inf = std::numeric_limits<double>::infinity();
+  auto objective_of = [&](const RobustnessPoint& pt) {
+    if (!pt.bounds.IsUsable()) return inf;
+    if (options.objective == NoaOptions::kOneMinusR) return 1.0 - pt.robustness;
+    return pt.bounds.min.loss_factor - pt.bounds.max.loss_factor;  // η2 − η1 ≥ 0
+  };
+  // One outer evaluation: the two inner bound problems, warm-started from the nearest
+  // evaluated parameter's optimal α.
+  auto evaluate = [&](double p) {
+    const RobustnessPoint* nearest = nullptr;
+    for (const RobustnessPoint& h : res.history) {
+      if (!nearest || std::abs(h.parameter - p) < std::abs(nearest->parameter - p)) nearest = &h;
+    }
+    SweepOptions so = options.inner;
+    const Model model = factory(p);
+    HbmSystem system(model, so.hbm);
+    const BoundsOptions bo =
+        WithSeeds(so.bounds, system.num_contacts(), nearest ? &nearest->bounds : nullptr);
+    RobustnessPoint pt;
+    pt.parameter = p;
+    if (so.track_peak) {
+      const ResonanceResult rr = FindResonance(system, so.search, bo);
+      pt.freq_hz = rr.freq_hz;
+      pt.bounds = rr.bounds;
+      pt.bound_solves = rr.bound_solves;
+    } else {
+      pt.freq_hz = so.reference_freq_hz;
+      pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
+      pt.bound_solves = 1;
+    }
+    pt.robustness = Robustness(pt.bounds);
+    res.inner_solves += 2 * pt.bound_solves;
+    ++res.outer_iterations;
+    res.history.push_back(pt);
+    if (progress) progress(res.outer_iterations, -1);
+    return objective_of(res.history.back());
+  };
+
+  // 1) Global scan.
+  const int n = options.scan_points;
+  std::vector<double> p(n), g(n);
+  for (int i = 0; i < n; ++i) {
+    p[i] = options.lower + (options.upper - options.lower) * i / (n - 1);
+    g[i] = evaluate(p[i]);
+  }
+  const double gmin = *std::min_element(g.begin(), g.end());
+  if (!std::isfinite(gmin)) {
+    res.message = "no scan point had converged bounds";
+    res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  // Ties at the minimum (a plateau, e.g. R = 1 over an interval): take the middle of the longest
+  // run — the design with the largest margin on both sides.
+  const double tie = 1e-9 + 1e-6 * std::abs(gmin);
+  int run_start = -1, best_start = 0, best_len = 0;
+  for (int i = 0; i <= n; ++i) {
+    const bool at_min = i < n && g[i] <= gmin + tie;
+    if (at_min && run_start < 0) run_start = i;
+    if (!at_min && run_start >= 0) {
+      if (i - run_start > best_len) {
+        best_len = i - run_start;
+        best_start = run_start;
+      }
+      run_start = -1;
+    }
+  }
+  double p_best, g_best;
+  if (best_len >= 2) {
+    const double lo = p[best_start], hi = p[best_start + best_len - 1];
+    p_best = 0.5 * (lo + hi);
+    g_best = evaluate(p_best);
+    if (!(g_best <= gmin + tie)) {  // not a true plateau: keep the best scanned point
+      p_best = p[best_start];
+      g_best = g[best_start];
+    }
+    res.message = "plateau of the objective between " + std::to_string(lo) + " and " +
+                  std::to_string(hi) + "; its middle is returned";
+  } else {
+    // 2) Golden-section refinement of the bracket around the best scan point.
+    const int k = best_start;
+    double a = p[std::max(k - 1, 0)], d = p[std::min(k + 1, n - 1)];
+    double b = d - kGolden * (d - a), c = a + kGolden * (d - a);
+    double gb = evaluate(b), gc = evaluate(c);
+    while (d - a > options.parameter_tolerance) {
+      if (gb <= gc) {
+        d = c;
+        c = b;
+        gc = gb;
+        b = d - kGolden * (d - a);
+        gb = evaluate(b);
+      } else {
+        a = b;
+        b = c;
+        gb = gc;
+        c = a + kGolden * (d - a);
+        gc = evaluate(c);
+      }
+    }
+    p_best = gb <= gc ? b : c;
+    g_best = std::min(gb, gc);
+    if (g[k] < g_best) {
+      p_best = p[k];
+      g_best = g[k];
+    }
+  }
+  // Report the evaluation at p_best.
+  for (const RobustnessPoint& h : res.history) {
+    if (h.parameter == p_best) {
+      res.p_opt = h.parameter;
+      res.robustness = h.robustness;
+      res.eta1 = h.bounds.max.loss_factor;
+      res.eta2 = h.bounds.min.loss_factor;
+    }
+  }
+  res.objective = g_best;
+  res.converged = std::isfinite(g_best);
+  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace fricrom
