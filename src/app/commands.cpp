@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include "app/atomic_file.h"
+#include "app/cli_common.h"
+#include "app/design_commands.h"
 #include "app/hdf5_writer.h"
 #include "fricrom/case.h"
 #include "fricrom/frf.h"
@@ -24,66 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-// Options shared by the commands that read a case.
-struct CaseArgs {
-  std::string path;
-  std::vector<std::string> sets;
-  int harmonics = -1;
-  int samples = -1;
-
-  Case Load() const {
-    std::vector<ParameterOverride> overrides;
-    for (const std::string& s : sets) overrides.push_back(ParseOverride(s));
-    Case c = LoadCase(path, overrides);
-    if (harmonics >= 0) c.analysis.harmonics = harmonics;
-    if (samples >= 0) c.analysis.samples_per_period = samples;
-    HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
-    std::string error;
-    if (!ho.IsValid(&error)) throw CaseError("--harmonics/--samples: " + error);
-    return c;
-  }
-  void Register(CLI::App* cmd) {
-    cmd->add_option("case", path, "Case file (TOML)")->required();
-    cmd->add_option("--set", sets, "Override a case parameter, e.g. --set gamma=0.2 (repeatable)");
-    cmd->add_option("--harmonics", harmonics, "Harmonics H (default: the case's)")
-        ->check(CLI::Range(0, 200));
-    cmd->add_option("--samples", samples, "AFT time samples per period (default: the case's)")
-        ->check(CLI::Range(4, 1 << 20));
-  }
-};
-
-std::vector<double> ParseList(const std::string& text, const std::string& flag) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    try {
-      size_t used = 0;
-      const double v = std::stod(item, &used);
-      while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument("");
-      out.push_back(v);
-    } catch (const std::exception&) {
-      throw CLI::ValidationError(flag, "'" + item + "' is not a number (expected a comma list)");
-    }
-  }
-  if (out.empty()) throw CLI::ValidationError(flag, "empty list");
-  return out;
-}
-
-std::string Version() { return FRICROM_VERSION; }
-
-void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command) {
-  h5.Attribute("", "fricrom_version", Version());
-  h5.Attribute("", "schema", "fricrom-results-1");
-  h5.Attribute("", "units", "SI (m, N, s); frequencies in Hz");
-  h5.Attribute("", "command", command);
-  h5.Attribute("", "case_name", c.name);
-  h5.Attribute("", "case_source", c.source);
-  h5.Attribute("", "response_dof", c.model.dof_names[c.model.response_dof]);
-  h5.String("case/resolved_toml", c.resolved);
-}
 
 // ---------------------------------------------------------------- modes
 int RunModes(const CaseArgs& args, bool as_json) {
@@ -363,6 +305,9 @@ int Run(int argc, char** argv) {
   CLI::App* casecmd = app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
   case_args.Register(casecmd);
 
+  DesignCommands design;
+  design.Register(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -372,6 +317,8 @@ int Run(int argc, char** argv) {
     if (*modes) return RunModes(modes_args, modes_json);
     if (*frf) return RunFrf(frf_args, fa);
     if (*casecmd) return RunCase(case_args);
+    const int rc = design.Run();
+    if (rc >= 0) return rc;
   } catch (const CaseError& e) {
     std::cerr << "fricrom: error: " << e.what() << "\n";
     return 2;

@@ -1,0 +1,99 @@
+#include "app/cli_common.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace fricrom::app {
+
+Case CaseArgs::Load(const std::vector<ParameterOverride>& extra) const {
+  std::vector<ParameterOverride> overrides;
+  for (const std::string& s : sets) overrides.push_back(ParseOverride(s));
+  for (const ParameterOverride& o : extra) overrides.push_back(o);
+  Case c = LoadCase(path, overrides);
+  if (harmonics >= 0) c.analysis.harmonics = harmonics;
+  if (samples >= 0) c.analysis.samples_per_period = samples;
+  HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
+  std::string error;
+  if (!ho.IsValid(&error)) throw CaseError("--harmonics/--samples: " + error);
+  return c;
+}
+
+void CaseArgs::Register(CLI::App* cmd) {
+  cmd->add_option("case", path, "Case file (TOML)")->required();
+  cmd->add_option("--set", sets, "Override a case parameter, e.g. --set gamma=0.2 (repeatable)");
+  cmd->add_option("--harmonics", harmonics, "Harmonics H (default: the case's)")
+      ->check(CLI::Range(0, 200));
+  cmd->add_option("--samples", samples, "AFT time samples per period (default: the case's)")
+      ->check(CLI::Range(4, 1 << 20));
+}
+
+std::vector<double> ParseList(const std::string& text, const std::string& flag) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      size_t used = 0;
+      const double v = std::stod(item, &used);
+      while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument("");
+      out.push_back(v);
+    } catch (const std::exception&) {
+      throw CLI::ValidationError(flag, "'" + item + "' is not a number (expected a comma list)");
+    }
+  }
+  if (out.empty()) throw CLI::ValidationError(flag, "empty list");
+  return out;
+}
+
+std::string Version() { return FRICROM_VERSION; }
+
+void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command) {
+  h5.Attribute("", "fricrom_version", Version());
+  h5.Attribute("", "schema", "fricrom-results-1");
+  h5.Attribute("", "units", "SI (m, N, s); frequencies in Hz");
+  h5.Attribute("", "command", command);
+  h5.Attribute("", "case_name", c.name);
+  h5.Attribute("", "case_source", c.source);
+  h5.Attribute("", "response_dof", c.model.dof_names[c.model.response_dof]);
+  h5.String("case/resolved_toml", c.resolved);
+}
+
+std::vector<std::vector<int>> ContactsByDamper(const Model& model) {
+  std::vector<std::vector<int>> groups;
+  std::vector<std::vector<int>> keys;
+  for (int i = 0; i < static_cast<int>(model.contacts.size()); ++i) {
+    const std::vector<int>& key = model.contacts[i].dofs_a;
+    size_t g = 0;
+    while (g < keys.size() && keys[g] != key) ++g;
+    if (g == keys.size()) {
+      keys.push_back(key);
+      groups.emplace_back();
+    }
+    groups[g].push_back(i);
+  }
+  return groups;
+}
+
+std::vector<bool> MixedConfiguration(const Model& model, const std::vector<ContactRegime>& regimes) {
+  std::vector<bool> mixed;
+  for (const std::vector<int>& group : ContactsByDamper(model)) {
+    bool stick = false, slip = false;
+    for (int c : group) {
+      if (c >= static_cast<int>(regimes.size())) continue;
+      stick |= regimes[c] == ContactRegime::kFullStick;
+      slip |= regimes[c] == ContactRegime::kStickSlip || regimes[c] == ContactRegime::kFullSlip ||
+              regimes[c] == ContactRegime::kStickSlipLiftOff;
+    }
+    mixed.push_back(stick && slip);
+  }
+  return mixed;
+}
+
+std::vector<std::string> RegimeNames(const std::vector<ContactRegime>& regimes) {
+  std::vector<std::string> out;
+  for (ContactRegime r : regimes) out.push_back(ToString(r));
+  return out;
+}
+
+}  // namespace fricrom::app

@@ -1,0 +1,37 @@
+// Pieces shared by the CLI commands: case arguments, list parsing, result-file attributes.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "app/hdf5_writer.h"
+#include "fricrom/case.h"
+#include "fricrom/contact.h"
+#include "fricrom/hbm.h"
+
+namespace fricrom::app {
+
+struct CaseArgs {
+  std::string path;
+  std::vector<std::string> sets;
+  int harmonics = -1;
+  int samples = -1;
+
+  // Loads the case with the overrides; extra overrides (e.g. a swept parameter) come last.
+  Case Load(const std::vector<ParameterOverride>& extra = {}) const;
+  void Register(CLI::App* cmd);
+};
+
+std::vector<double> ParseList(const std::string& text, const std::string& flag);
+std::string Version();
+void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command);
+
+// Contacts grouped by the body on their A side (the damper): indices into model.contacts.
+std::vector<std::vector<int>> ContactsByDamper(const Model& model);
+// A damper is in the paper's "mixed configuration" when one of its contacts sticks over the whole
+// period and another slips during it.
+std::vector<bool> MixedConfiguration(const Model& model, const std::vector<ContactRegime>& regimes);
+std::vector<std::string> RegimeNames(const std::vector<ContactRegime>& regimes);
+
+}  // namespace fricrom::app

@@ -1,0 +1,632 @@
+#include "app/design_commands.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "app/atomic_file.h"
+#include "app/cli_common.h"
+#include "app/hdf5_writer.h"
+#include "fricrom/bounds.h"
+#include "fricrom/design.h"
+#include "fricrom/frf.h"
+#include "fricrom/linear.h"
+#include "fricrom/time_integration.h"
+
+namespace fricrom::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+json Num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+// Seeds "a,b,c,d;e,f,g,h" (semicolon-separated α vectors).
+std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts) {
+  std::vector<Eigen::VectorXd> seeds;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    const std::vector<double> v = ParseList(item, "--seeds");
+    if (static_cast<int>(v.size()) != num_contacts) {
+      throw CLI::ValidationError("--seeds", "each seed needs " + std::to_string(num_contacts) +
+                                                " values (one per contact), got '" + item + "'");
+    }
+    for (double a : v) {
+      if (!(std::abs(a) <= 1.0)) throw CLI::ValidationError("--seeds", "values must lie in [-1, 1]");
+    }
+    seeds.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()));
+  }
+  return seeds;
+}
+
+struct Progress {
+  bool enabled;
+  std::string label;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  void operator()(int done, int total) const {
+    if (!enabled) return;
+    std::cerr << "\r" << label << ": " << done;
+    if (total > 0) std::cerr << "/" << total;
+    std::cerr << "  (" << std::fixed << std::setprecision(1) << Seconds(t0) << " s)" << std::flush;
+  }
+  void Done() const {
+    if (enabled) std::cerr << "\n";
+  }
+};
+
+void WriteHistories(Hdf5Writer& h5, const std::string& group, const HbmSystem& system,
+                    const BoundSolution& s, double freq_hz) {
+  if (!s.IsUsable()) return;
+  const auto hist = system.ContactHistories(s.x, kTwoPi * freq_hz, s.alpha);
+  const int nc = static_cast<int>(hist.size());
+  const int n = static_cast<int>(hist[0].time_s.size());
+  Eigen::MatrixXd t(nc, n), nn(nc, n), st(nc, n);
+  std::vector<std::string> regimes;
+  for (int c = 0; c < nc; ++c) {
+    t.row(c) = hist[c].tangential.transpose();
+    nn.row(c) = hist[c].normal.transpose();
+    for (int k = 0; k < n; ++k) st(c, k) = static_cast<double>(hist[c].states[k]);
+    regimes.push_back(ToString(hist[c].regime));
+  }
+  h5.Vector(group + "/time_s", hist[0].time_s);
+  h5.Matrix(group + "/tangential_N", t);
+  h5.Matrix(group + "/normal_N", nn);
+  h5.Matrix(group + "/states", st);
+  h5.Strings(group + "/regimes", regimes);
+  h5.Vector(group + "/alpha", s.alpha);
+  h5.Attribute(group, "freq_hz", freq_hz);
+  h5.Attribute(group, "amplitude_m", s.amplitude);
+  h5.Attribute(group, "states_legend", "0 stick, 1 positive slip, 2 negative slip, 3 lift-off");
+}
+
+std::string Status(const BoundSolution& s) { return ToString(s.status); }
+
+json BoundsJson(const Model& model, const BoundsResult& b) {
+  json j;
+  j["freq_hz"] = b.freq_hz;
+  j["y_min"] = Num(b.min.amplitude);
+  j["y_max"] = Num(b.max.amplitude);
+  j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor
+  j["eta_max"] = Num(b.min.loss_factor);
+  j["alpha_at_min"] = ToStd(b.min.alpha);
+  j["alpha_at_max"] = ToStd(b.max.alpha);
+  j["states_at_min"] = RegimeNames(b.min.regimes);
+  j["states_at_max"] = RegimeNames(b.max.regimes);
+  j["mixed_configuration_at_min"] = MixedConfiguration(model, b.min.regimes);
+  j["mixed_configuration_at_max"] = MixedConfiguration(model, b.max.regimes);
+  j["R"] = Num(b.robustness());
+  j["status"] = b.IsUsable() ? "converged"
+                             : "min: " + Status(b.min) + ", max: " + Status(b.max);
+  j["status_min"] = Status(b.min);
+  j["status_max"] = Status(b.max);
+  j["spread_min"] = b.spread_min;
+  j["spread_max"] = b.spread_max;
+  j["seeds_tried"] = b.seeds_tried;
+  j["seeds_converged"] = b.seeds_converged;
+  return j;
+}
+
+BoundsOptions WarmSeeds(const BoundsOptions& base, int nc, const BoundsResult* prev) {
+  BoundsOptions o = base;
+  if (o.alpha_seeds.empty()) o.alpha_seeds = DefaultAlphaSeeds(nc);
+  if (prev && prev->min.IsUsable()) o.alpha_seeds.push_back(prev->min.alpha);
+  if (prev && prev->max.IsUsable()) o.alpha_seeds.push_back(prev->max.alpha);
+  return o;
+}
+
+void Plot(const std::string& script, const std::vector<std::string>& args) {
+  std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) + "/scripts/" + script + "'";
+  for (const std::string& a : args) cmd += " '" + a + "'";
+  if (std::system(cmd.c_str()) != 0) std::cerr << "fricrom: figure not written by " << script << "\n";
+}
+
+}  // namespace
+
+struct DesignCommands::State {
+  CaseArgs bounds_case, sweep_case, noa_case, verify_case;
+  CLI::App* bounds = nullptr;
+  CLI::App* sweep = nullptr;
+  CLI::App* noa = nullptr;
+  CLI::App* verify = nullptr;
+  // shared options
+  std::string seeds, out, objective = "amplitude";
+  bool as_json = false, plot = false, quiet = false, track_peak = false;
+  double freq = 0.0, from = 0.0, to = 0.0;
+  int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
+  std::string param, noa_objective = "eta-gap";
+  bool no_sweep = false;
+
+  BoundsOptions MakeBoundsOptions(int nc) const {
+    BoundsOptions o;
+    if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
+    if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
+    return o;
+  }
+  fs::path OutDir(const Case& c, const std::string& sub) const {
+    fs::path d = out.empty() ? fs::path("results") / c.name / sub : fs::path(out);
+    fs::create_directories(d);
+    return d;
+  }
+  bool ShowProgress() const { return !quiet && !as_json && isatty(STDERR_FILENO); }
+
+  // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
+  double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
+    if (freq > 0.0) return freq;
+    HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+    ResonanceSearchOptions rs;
+    rs.lo_hz = c.analysis.freq_min_hz;
+    rs.hi_hz = c.analysis.freq_max_hz;
+    rs.scan_points = 21;
+    const ResonanceResult r = FindResonance(system, rs, bo);
+    *solves += r.bound_solves;
+    return r.freq_hz;
+  }
+
+  int RunBounds();
+  int RunSweep();
+  int RunNoa();
+  int RunVerify();
+};
+
+DesignCommands::DesignCommands() : state_(std::make_unique<State>()) {}
+DesignCommands::~DesignCommands() = default;
+
+void DesignCommands::Register(CLI::App& app) {
+  State& s = *state_;
+  auto common = [&](CLI::App* cmd) {
+    cmd->add_option("--seeds", s.seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
+    cmd->add_option("--objective", s.objective, "Bound objective: amplitude (default) or loss-factor")
+        ->check(CLI::IsMember({"amplitude", "loss-factor"}));
+    cmd->add_option("--out", s.out, "Output directory (default results/<case>/<command>)");
+    cmd->add_flag("--json", s.as_json, "Print one JSON object on stdout");
+    cmd->add_flag("--quiet", s.quiet, "Print nothing but errors");
+  };
+  s.bounds = app.add_subcommand("bounds", "Minimum and maximum response over alpha (Ipopt), R");
+  s.bounds_case.Register(s.bounds);
+  common(s.bounds);
+  s.bounds->add_option("--freq", s.freq, "Single frequency [Hz] (default: a curve over the case range)")
+      ->check(CLI::PositiveNumber);
+  s.bounds->add_option("--points", s.points, "Frequencies of the curve")->check(CLI::Range(2, 100000));
+  s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
+
+  s.sweep = app.add_subcommand("sweep", "Robustness R over a design parameter (manual sweep)");
+  s.sweep_case.Register(s.sweep);
+  common(s.sweep);
+  s.sweep->add_option("--param", s.param, "Case parameter to sweep (e.g. gamma, beta)")->required();
+  s.sweep->add_option("--from", s.from, "First value")->required();
+  s.sweep->add_option("--to", s.to, "Last value")->required();
+  s.sweep->add_option("--steps", s.steps, "Number of values")->check(CLI::Range(2, 100000));
+  s.sweep->add_option("--freq", s.freq, "Reference frequency [Hz] (default: peak of y_max at the first value)")
+      ->check(CLI::PositiveNumber);
+  s.sweep->add_flag("--track-peak", s.track_peak, "Locate the resonance again at every value");
+  s.sweep->add_flag("--plot", s.plot, "Draw R(p)");
+
+  s.noa = app.add_subcommand("noa", "Nested optimisation: the most robust parameter value");
+  s.noa_case.Register(s.noa);
+  common(s.noa);
+  s.noa->add_option("--param", s.param, "Case parameter to optimise")->required();
+  s.noa->add_option("--from", s.from, "Lower end of the interval")->required();
+  s.noa->add_option("--to", s.to, "Upper end of the interval")->required();
+  s.noa->add_option("--freq", s.freq, "Reference frequency [Hz] (default: peak of y_max at --from)")
+      ->check(CLI::PositiveNumber);
+  s.noa->add_option("--noa-objective", s.noa_objective, "Outer objective: eta-gap (paper) or one-minus-r")
+      ->check(CLI::IsMember({"eta-gap", "one-minus-r"}));
+  s.noa->add_option("--sweep-steps", s.sweep_steps, "Steps of the manual sweep run for comparison")
+      ->check(CLI::Range(2, 100000));
+  s.noa->add_flag("--no-sweep", s.no_sweep, "Skip the manual-sweep cost comparison");
+
+  s.verify = app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
+  s.verify_case.Register(s.verify);
+  common(s.verify);
+  s.verify->add_option("--freq", s.freq, "Frequency [Hz]")->required()->check(CLI::PositiveNumber);
+  s.verify->add_option("--alpha-samples", s.samples, "Alpha samples (corners first, then random)")
+      ->check(CLI::Range(1, 1000000));
+  s.verify->add_option("--time-runs", s.ti_runs, "Time integrations from different initial states")
+      ->check(CLI::Range(0, 1000));
+}
+
+int DesignCommands::Run() {
+  State& s = *state_;
+  if (*s.bounds) return s.RunBounds();
+  if (*s.sweep) return s.RunSweep();
+  if (*s.noa) return s.RunNoa();
+  if (*s.verify) return s.RunVerify();
+  return -1;
+}
+
+// ------------------------------------------------------------------------------------- bounds
+int DesignCommands::State::RunBounds() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Case c = bounds_case.Load();
+  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  const BoundsOptions base = MakeBoundsOptions(system.num_contacts());
+  std::string error;
+  if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
+  std::vector<double> freqs;
+  if (freq > 0.0) {
+    freqs = {freq};
+  } else {
+    for (int i = 0; i < points; ++i) {
+      freqs.push_back(c.analysis.freq_min_hz +
+                      (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (points - 1));
+    }
+  }
+  Progress progress{ShowProgress(), "bounds"};
+  std::vector<BoundsResult> results;
+  for (double f : freqs) {
+    const BoundsOptions bo = WarmSeeds(base, system.num_contacts(), results.empty() ? nullptr : &results.back());
+    results.push_back(ComputeBounds(system, f, bo));
+    progress(static_cast<int>(results.size()), static_cast<int>(freqs.size()));
+  }
+  progress.Done();
+  // Resonance: the peak of the maximum-response curve.
+  int peak = 0;
+  for (int i = 0; i < static_cast<int>(results.size()); ++i) {
+    if (results[i].max.IsUsable() && results[i].max.amplitude > results[peak].max.amplitude) peak = i;
+  }
+  const double wall = Seconds(t0);
+
+  const fs::path dir = OutDir(c, "bounds");
+  const fs::path h5p = dir / "bounds.h5", csvp = dir / "bounds.csv";
+  {
+    Hdf5Writer h5(h5p);
+    CommonAttributes(h5, c, "bounds");
+    const int nc = system.num_contacts();
+    std::vector<double> f, ymin, ymax, emin, emax, rr;
+    std::vector<std::string> smin, smax, rmin, rmax;
+    Eigen::MatrixXd amin(results.size(), nc), amax(results.size(), nc);
+    for (size_t i = 0; i < results.size(); ++i) {
+      const BoundsResult& b = results[i];
+      f.push_back(b.freq_hz);
+      ymin.push_back(b.min.amplitude);
+      ymax.push_back(b.max.amplitude);
+      emin.push_back(b.max.loss_factor);
+      emax.push_back(b.min.loss_factor);
+      rr.push_back(b.robustness());
+      smin.push_back(Status(b.min));
+      smax.push_back(Status(b.max));
+      amin.row(i).setConstant(NAN);
+      amax.row(i).setConstant(NAN);
+      if (b.min.alpha.size() == nc) amin.row(i) = b.min.alpha.transpose();
+      if (b.max.alpha.size() == nc) amax.row(i) = b.max.alpha.transpose();
+      for (int k = 0; k < nc; ++k) {
+        rmin.push_back(k < static_cast<int>(b.min.regimes.size()) ? ToString(b.min.regimes[k]) : "unknown");
+        rmax.push_back(k < static_cast<int>(b.max.regimes.size()) ? ToString(b.max.regimes[k]) : "unknown");
+      }
+    }
+    h5.Vector("bounds/freq_hz", f);
+    h5.Vector("bounds/y_min_m", ymin);
+    h5.Vector("bounds/y_max_m", ymax);
+    h5.Vector("bounds/eta_min", emin);
+    h5.Vector("bounds/eta_max", emax);
+    h5.Vector("bounds/robustness", rr);
+    h5.Strings("bounds/status_min", smin);
+    h5.Strings("bounds/status_max", smax);
+    h5.Matrix("bounds/alpha_at_min", amin);
+    h5.Matrix("bounds/alpha_at_max", amax);
+    h5.Strings("bounds/regimes_min", rmin);
+    h5.Strings("bounds/regimes_max", rmax);
+    h5.Attribute("bounds", "peak_freq_hz", results[peak].freq_hz);
+    h5.Attribute("bounds", "robustness_at_peak", results[peak].robustness());
+    h5.Attribute("bounds", "wall_s", wall);
+    std::vector<double> lf;
+    for (int i = 0; i < 400; ++i) {
+      lf.push_back(c.analysis.freq_min_hz + (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
+    }
+    h5.Vector("linear/freq_hz", lf);
+    h5.Vector("linear/free_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf));
+    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf));
+    h5.Strings("histories/contacts", c.contact_names);
+    std::vector<double> mu;
+    for (const Contact& ct : c.model.contacts) mu.push_back(ct.mu);
+    h5.Vector("histories/mu", mu);
+    WriteHistories(h5, "histories/min", system, results[peak].min, results[peak].freq_hz);
+    WriteHistories(h5, "histories/max", system, results[peak].max, results[peak].freq_hz);
+    h5.Commit();
+  }
+  {
+    std::ostringstream csv;
+    csv << "# fricrom " << Version() << " bounds of " << c.name << "; units: Hz, m\n";
+    csv << "freq_hz,y_min_m,y_max_m,eta_min,eta_max,R,status_min,status_max\n" << std::setprecision(12);
+    for (const BoundsResult& b : results) {
+      csv << b.freq_hz << "," << b.min.amplitude << "," << b.max.amplitude << ","
+          << b.max.loss_factor << "," << b.min.loss_factor << "," << b.robustness() << ","
+          << Status(b.min) << "," << Status(b.max) << "\n";
+    }
+    WriteTextAtomically(csvp, csv.str());
+  }
+  if (plot) {
+    Plot("plot_bounds.py", {h5p.string(), (dir / "bounds.png").string(), "--normalise"});
+    Plot("plot_contacts.py", {h5p.string(), (dir / "contacts.png").string()});
+  }
+  bool ok = true;
+  for (const BoundsResult& b : results) ok = ok && b.IsUsable();
+  const BoundsResult& at = results[peak];
+  if (as_json) {
+    json j = BoundsJson(c.model, at);
+    if (freqs.size() > 1) {
+      j["peak_freq_hz"] = at.freq_hz;
+      json pts = json::array();
+      for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
+      j["points"] = pts;
+    }
+    j["wall_s"] = wall;
+    j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
+    std::cout << j.dump() << "\n";
+  } else if (!quiet) {
+    std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
+              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall << " s\n";
+    std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
+              << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
+    std::cout << "  states at min:";
+    for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
+    std::cout << "\n  states at max:";
+    for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
+    std::cout << "\n  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+  }
+  return ok ? 0 : 1;
+}
+
+// -------------------------------------------------------------------------------------- sweep
+int DesignCommands::State::RunSweep() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Case c0 = sweep_case.Load({{param, from}});  // also checks that the parameter exists
+  const BoundsOptions bo = MakeBoundsOptions(static_cast<int>(c0.model.contacts.size()));
+  int solves = 0;
+  SweepOptions so;
+  so.hbm = HbmOptions{c0.analysis.harmonics, c0.analysis.samples_per_period};
+  so.bounds = bo;
+  so.track_peak = track_peak;
+  so.search.lo_hz = c0.analysis.freq_min_hz;
+  so.search.hi_hz = c0.analysis.freq_max_hz;
+  so.search.scan_points = 21;
+  if (!track_peak) so.reference_freq_hz = ReferenceFrequency(c0, bo, &solves);
+  std::vector<double> values;
+  for (int i = 0; i < steps; ++i) values.push_back(from + (to - from) * i / (steps - 1));
+  const ModelFactory factory = [&](double p) { return sweep_case.Load({{param, p}}).model; };
+  Progress progress{ShowProgress(), "sweep " + param};
+  const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, so, progress);
+  progress.Done();
+  for (const RobustnessPoint& p : pts) solves += 2 * p.bound_solves;
+  const double wall = Seconds(t0);
+
+  const fs::path dir = OutDir(c0, "sweep_" + param);
+  const fs::path h5p = dir / "sweep.h5", csvp = dir / "sweep.csv";
+  std::vector<double> r, ymin, ymax, emin, emax, fr;
+  std::vector<std::string> st;
+  json states_min = json::array(), states_max = json::array(), mixed_min = json::array(),
+       mixed_max = json::array();
+  for (const RobustnessPoint& p : pts) {
+    r.push_back(p.robustness);
+    ymin.push_back(p.bounds.min.amplitude);
+    ymax.push_back(p.bounds.max.amplitude);
+    emin.push_back(p.bounds.max.loss_factor);
+    emax.push_back(p.bounds.min.loss_factor);
+    fr.push_back(p.freq_hz);
+    st.push_back(p.bounds.IsUsable() ? "converged" : "failed");
+    states_min.push_back(RegimeNames(p.bounds.min.regimes));
+    states_max.push_back(RegimeNames(p.bounds.max.regimes));
+    mixed_min.push_back(MixedConfiguration(c0.model, p.bounds.min.regimes));
+    mixed_max.push_back(MixedConfiguration(c0.model, p.bounds.max.regimes));
+  }
+  {
+    Hdf5Writer h5(h5p);
+    CommonAttributes(h5, c0, "sweep");
+    h5.Vector("sweep/values", values);
+    h5.Vector("sweep/robustness", r);
+    h5.Vector("sweep/y_min_m", ymin);
+    h5.Vector("sweep/y_max_m", ymax);
+    h5.Vector("sweep/eta_min", emin);
+    h5.Vector("sweep/eta_max", emax);
+    h5.Vector("sweep/freq_hz", fr);
+    h5.Strings("sweep/status", st);
+    h5.Attribute("sweep", "param", param);
+    h5.Attribute("sweep", "reference_freq_hz", track_peak ? NAN : so.reference_freq_hz);
+    h5.Attribute("sweep", "wall_s", wall);
+    h5.Attribute("sweep", "inner_solves", static_cast<double>(solves));
+    h5.Commit();
+  }
+  {
+    std::ostringstream csv;
+    csv << "# fricrom " << Version() << " sweep of " << param << " on " << c0.name << "; units: -, Hz, m\n";
+    csv << param << ",R,freq_hz,y_min_m,y_max_m,eta_min,eta_max,status\n" << std::setprecision(12);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      csv << values[i] << "," << r[i] << "," << fr[i] << "," << ymin[i] << "," << ymax[i] << ","
+          << emin[i] << "," << emax[i] << "," << st[i] << "\n";
+    }
+    WriteTextAtomically(csvp, csv.str());
+  }
+  if (plot) Plot("plot_sweep.py", {h5p.string(), (dir / "sweep.png").string()});
+  bool ok = true;
+  for (const std::string& x : st) ok = ok && x == "converged";
+  if (as_json) {
+    json j;
+    j["param"] = param;
+    j["values"] = values;
+    json rj = json::array();
+    for (double x : r) rj.push_back(Num(x));
+    j["robustness"] = rj;
+    j["y_min"] = ymin;
+    j["y_max"] = ymax;
+    j["freq_hz"] = fr;
+    j["status"] = st;
+    j["states_at_min"] = states_min;
+    j["states_at_max"] = states_max;
+    j["mixed_configuration_at_min"] = mixed_min;
+    j["mixed_configuration_at_max"] = mixed_max;
+    j["reference_freq_hz"] = track_peak ? json(nullptr) : json(so.reference_freq_hz);
+    j["inner_solves"] = solves;
+    j["wall_s"] = wall;
+    j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
+    std::cout << j.dump() << "\n";
+  } else if (!quiet) {
+    std::cout << "Robustness over " << param << " in [" << from << ", " << to << "], " << steps
+              << " values, " << (track_peak ? std::string("at the peak of y_max")
+                                            : "at " + std::to_string(so.reference_freq_hz) + " Hz")
+              << ": " << std::setprecision(3) << wall << " s, " << solves << " inner bound solves\n";
+    for (size_t i = 0; i < pts.size(); ++i) {
+      std::cout << "  " << param << " = " << std::setw(8) << values[i] << "  R = " << r[i] << "\n";
+    }
+    std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+  }
+  return ok ? 0 : 1;
+}
+
+// ---------------------------------------------------------------------------------------- noa
+int DesignCommands::State::RunNoa() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Case c0 = noa_case.Load({{param, from}});
+  const BoundsOptions bo = MakeBoundsOptions(static_cast<int>(c0.model.contacts.size()));
+  int ref_solves = 0;
+  NoaOptions no;
+  no.lower = from;
+  no.upper = to;
+  no.objective = noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
+  no.inner.hbm = HbmOptions{c0.analysis.harmonics, c0.analysis.samples_per_period};
+  no.inner.bounds = bo;
+  no.inner.reference_freq_hz = ReferenceFrequency(c0, bo, &ref_solves);
+  const ModelFactory factory = [&](double p) { return noa_case.Load({{param, p}}).model; };
+  Progress progress{ShowProgress(), "noa " + param};
+  const NoaResult res = fricrom::RunNoa(factory, no, progress);
+  progress.Done();
+  const double wall = Seconds(t0);
+  json sweep_json = nullptr;
+  if (!no_sweep) {
+    const auto ts = std::chrono::steady_clock::now();
+    std::vector<double> values;
+    for (int i = 0; i < sweep_steps; ++i) values.push_back(from + (to - from) * i / (sweep_steps - 1));
+    const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, no.inner);
+    int best = 0, solves = 0;
+    for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+      solves += 2 * pts[i].bound_solves;
+      if (pts[i].robustness > pts[best].robustness) best = i;
+    }
+    sweep_json = {{"steps", sweep_steps}, {"wall_s", Seconds(ts)}, {"inner_solves", solves},
+                  {"p_best", pts[best].parameter}, {"R_best", Num(pts[best].robustness)}};
+  }
+  const fs::path dir = OutDir(c0, "noa_" + param);
+  json j;
+  j["param"] = param;
+  j["p_opt"] = res.p_opt;
+  j["R_opt"] = Num(res.robustness);
+  j["eta1"] = res.eta1;
+  j["eta2"] = res.eta2;
+  j["objective"] = noa_objective;
+  j["objective_value"] = Num(res.objective);
+  j["outer_iterations"] = res.outer_iterations;
+  j["inner_solves"] = res.inner_solves;
+  j["wall_s"] = res.wall_s;
+  j["reference_freq_hz"] = no.inner.reference_freq_hz;
+  j["reference_search_solves"] = ref_solves;
+  j["converged"] = res.converged;
+  j["message"] = res.message;
+  json hist = json::array();
+  for (const RobustnessPoint& h : res.history) hist.push_back({{"p", h.parameter}, {"R", Num(h.robustness)}});
+  j["history"] = hist;
+  j["manual_sweep"] = sweep_json;
+  j["total_wall_s"] = wall;
+  WriteTextAtomically(dir / "noa.json", j.dump(2) + "\n");
+  if (as_json) {
+    std::cout << j.dump() << "\n";
+  } else if (!quiet) {
+    std::cout << res.BriefReport() << "\n  reference frequency " << no.inner.reference_freq_hz << " Hz\n";
+    if (!sweep_json.is_null()) {
+      std::cout << "  manual sweep of the same range: " << sweep_json.dump() << "\n";
+    }
+    std::cout << "  wrote " << (dir / "noa.json").string() << "\n";
+  }
+  return res.converged ? 0 : 1;
+}
+
+// ------------------------------------------------------------------------------------- verify
+int DesignCommands::State::RunVerify() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Case c = verify_case.Load();
+  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  const int nc = system.num_contacts();
+  const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(nc));
+  if (!b.IsUsable()) {
+    std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";
+    return 1;
+  }
+  const double lo = b.min.amplitude, hi = b.max.amplitude, tol = 1e-6;
+  // a) α sampling: the corners of the box first, then uniform random (fixed seed).
+  std::mt19937 rng(20241);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int failed = 0, outside = 0, inside = 0;
+  double smin = INFINITY, smax = 0.0;
+  Eigen::VectorXd last;
+  for (int i = 0; i < samples; ++i) {
+    Eigen::VectorXd a(nc);
+    if (nc < 20 && i < (1 << nc)) {
+      for (int k = 0; k < nc; ++k) a[k] = ((i >> k) & 1) ? 1.0 : -1.0;
+    } else {
+      for (int k = 0; k < nc; ++k) a[k] = u(rng);
+    }
+    const FrfPoint p = SolveAtFrequency(system, a, freq, Eigen::VectorXd(), FrfOptions{});
+    if (p.status != SolverStatus::kConverged) {
+      ++failed;
+      continue;
+    }
+    smin = std::min(smin, p.amplitude);
+    smax = std::max(smax, p.amplitude);
+    if (p.amplitude < lo * (1 - tol) || p.amplitude > hi * (1 + tol)) ++outside;
+    else ++inside;
+  }
+  // b) time integration from different initial static states.
+  json runs = json::array();
+  int ti_outside = 0;
+  for (int i = 0; i < ti_runs; ++i) {
+    Eigen::VectorXd a(nc);
+    for (int k = 0; k < nc; ++k) a[k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
+    TimeIntegrationOptions to;
+    to.freq_hz = freq;
+    const TimeIntegrationResult r = IntegrateToSteadyState(c.model, a, to);
+    // Harmonic truncation (H) separates the two routes by up to ~1e-3 here; 2 % margin.
+    const bool in = r.amplitude >= lo * 0.98 && r.amplitude <= hi * 1.02;
+    if (r.status == TimeIntegrationResult::Status::kSteadyState && !in) ++ti_outside;
+    runs.push_back({{"initial_alpha", ToStd(a)}, {"status", ToString(r.status)},
+                    {"amplitude", r.amplitude}, {"periods", r.periods}, {"inside", in},
+                    {"states", RegimeNames(r.regimes)}});
+  }
+  json j;
+  j["freq_hz"] = freq;
+  j["y_min"] = lo;
+  j["y_max"] = hi;
+  j["sampling"] = {{"samples", samples}, {"converged", samples - failed}, {"failed", failed},
+                   {"failed_share", static_cast<double>(failed) / samples},
+                   {"inside", inside}, {"outside", outside},
+                   {"sampled_min", Num(smin)}, {"sampled_max", smax}};
+  j["time_integration"] = runs;
+  j["time_integration_outside"] = ti_outside;
+  j["certified"] = outside == 0 && ti_outside == 0;
+  j["wall_s"] = Seconds(t0);
+  if (as_json) {
+    std::cout << j.dump() << "\n";
+  } else if (!quiet) {
+    std::cout << "Certification of the bounds at " << freq << " Hz: [" << lo << ", " << hi << "] m\n"
+              << "  alpha sampling: " << samples - failed << "/" << samples << " solved, "
+              << outside << " outside the bounds, sampled range [" << smin << ", " << smax << "]\n";
+    for (const json& r : runs) std::cout << "  time integration: " << r.dump() << "\n";
+    std::cout << "  " << (j["certified"].get<bool>() ? "CERTIFIED" : "NOT CERTIFIED") << "\n";
+  }
+  return j["certified"].get<bool>() ? 0 : 1;
+}
+
+}  // namespace fricrom::app
