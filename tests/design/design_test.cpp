@@ -1,0 +1,109 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fricrom/design.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+ModelFactory Factory(const std::string& param) {
+  return [param](double p) { return testing::LoadBaseline({{param, p}}).model; };
+}
+
+SweepOptions Inner() {
+  SweepOptions so;
+  so.reference_freq_hz = 266.0;  // near the full-stick resonance, as the paper's ω_ref
+  return so;
+}
+
+// Paper §4.2.1: R(γ) grows monotonically to R = 1 at γ = 0.43.
+TEST(Design, RobustnessGrowsWithThePreloadAsymmetry) {
+  const std::vector<double> gammas = {0.0, 0.15, 0.3, 0.43};
+  const auto pts = SweepRobustness(Factory("gamma"), gammas, Inner());
+  ASSERT_EQ(pts.size(), gammas.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    ASSERT_TRUE(pts[i].bounds.IsUsable()) << gammas[i];
+    if (i > 0) {
+      EXPECT_GT(pts[i].robustness, pts[i - 1].robustness) << gammas[i];
+    }
+  }
+  EXPECT_LT(pts[0].robustness, 0.9);   // scatter at the baseline
+  EXPECT_GT(pts[3].robustness, 0.99);  // nearly unique at γ = 0.43
+  // Baseline: mixed configuration on both dampers (inner contacts stuck, outer stick-slip).
+  const auto& r = pts[0].bounds.min.regimes;
+  EXPECT_EQ(r[0], ContactRegime::kStickSlip);
+  EXPECT_EQ(r[1], ContactRegime::kFullStick);
+  EXPECT_EQ(r[2], ContactRegime::kFullStick);
+  EXPECT_EQ(r[3], ContactRegime::kStickSlip);
+}
+
+// Paper §4.2.2: R(β) = 1 on a middle interval, lower on both sides; the NOA lands inside it.
+TEST(Design, NoaFindsTheRobustIntervalOfTheAngleAsymmetry) {
+  NoaOptions no;
+  no.lower = 0.0;
+  no.upper = 0.2;
+  no.inner = Inner();
+  const NoaResult res = RunNoa(Factory("beta"), no);
+  ASSERT_TRUE(res.converged) << res.BriefReport();
+  EXPECT_NEAR(res.robustness, 1.0, 1e-6) << res.BriefReport();
+  EXPECT_GT(res.p_opt, 0.075);
+  EXPECT_LT(res.p_opt, 0.15);
+  EXPECT_NEAR(res.eta1, res.eta2, 1e-9);
+  EXPECT_EQ(res.inner_solves, 2 * res.outer_iterations);
+  // Outside the interval the response is not unique.
+  double r_lo = 1, r_hi = 1;
+  for (const RobustnessPoint& h : res.history) {
+    if (h.parameter == 0.0) r_lo = h.robustness;
+    if (h.parameter == 0.2) r_hi = h.robustness;
+  }
+  EXPECT_LT(r_lo, 0.9);
+  EXPECT_LT(r_hi, 0.9);
+}
+
+// The paper's gradient NOA stopped at γ = 0.354 (R = 0.974); the scan + golden refinement goes to
+// the end of the interval where R → 1.
+TEST(Design, NoaBeatsThePaperOnThePreloadAsymmetry) {
+  NoaOptions no;
+  no.lower = 0.0;
+  no.upper = 0.43;
+  no.scan_points = 5;
+  no.parameter_tolerance = 0.01;
+  no.objective = NoaOptions::kOneMinusR;
+  no.inner = Inner();
+  const NoaResult res = RunNoa(Factory("gamma"), no);
+  ASSERT_TRUE(res.converged) << res.BriefReport();
+  EXPECT_GE(res.robustness, 0.974) << res.BriefReport();
+  EXPECT_GT(res.p_opt, 0.354);
+}
+
+TEST(Design, InvalidOptionsThrow) {
+  NoaOptions no;
+  no.lower = 1.0;
+  no.upper = 0.0;
+  EXPECT_THROW(RunNoa(Factory("beta"), no), std::invalid_argument);
+  SweepOptions so;  // no reference frequency
+  EXPECT_THROW(SweepRobustness(Factory("beta"), {0.0}, so), std::invalid_argument);
+  ResonanceSearchOptions rs;
+  std::string err;
+  EXPECT_FALSE(rs.IsValid(&err));
+}
+
+TEST(Design, ResonanceIsThePeakOfTheMaximumResponse) {
+  HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
+  ResonanceSearchOptions rs;
+  rs.lo_hz = 260.0;
+  rs.hi_hz = 272.0;
+  rs.scan_points = 7;
+  const ResonanceResult r = FindResonance(sys, rs, BoundsOptions{});
+  ASSERT_TRUE(r.bounds.max.IsUsable());
+  for (double f : {r.freq_hz - 0.5, r.freq_hz + 0.5}) {
+    const BoundsResult b = ComputeBounds(sys, f, BoundsOptions{});
+    ASSERT_TRUE(b.max.IsUsable());
+    EXPECT_LE(b.max.amplitude, r.bounds.max.amplitude * (1 + 1e-9)) << f;
+  }
+}
+
+}  // namespace
+}  // namespace fricrom
