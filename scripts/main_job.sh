@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The main job: set up, build (Release) and run the lumped validation benchmark of the paper
-# (Zara et al. 2024, §4.1): Table 3, the FRF at α = 0 with its figure, results files in results/.
+# (Zara et al. 2024, §4): Table 3, the FRF at α = 0, the response bounds (Fig. 9, 10), the
+# robustness sweeps over γ and β (Fig. 11, 14) with the contact states (Fig. 12, 13, 15, 16), both
+# NOA runs, and a markdown report beside the paper's numbers. Results go to results/lumped3/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -9,15 +11,76 @@ cmake --build build -j"$(nproc)" --target fricrom_cli
 
 CASE=meshes/lumped3/baseline.toml
 OUT=results/lumped3
+FR=./build/fricrom
+PY=/usr/bin/python3
 mkdir -p "$OUT"
+declare -A T
+# Runs a step, records its wall time; a step whose solves did not all converge (exit 1) is
+# reported and the job goes on; bad input (exit 2) stops it.
+step() {
+  local name=$1; shift
+  local t0 rc=0
+  t0=$(date +%s.%N)
+  "$@" || rc=$?
+  T[$name]=$(echo "$(date +%s.%N) - $t0" | bc -l)
+  if [ "$rc" -eq 1 ]; then echo "main job: step '$name' reported non-converged points (see above)"; fi
+  if [ "$rc" -gt 1 ]; then echo "main job: step '$name' failed (exit $rc)"; exit "$rc"; fi
+}
+json() { local f=$1; shift; "$@" --json > "$f.tmp" || { local rc=$?; mv "$f.tmp" "$f"; return $rc; }; mv "$f.tmp" "$f"; }
 
-echo
-echo "== Table 3: natural frequencies of the free and full-stick systems =="
-./build/fricrom modes "$CASE" --json > "$OUT/modes.json.tmp" && mv "$OUT/modes.json.tmp" "$OUT/modes.json"
-/usr/bin/python3 scripts/compare_table3.py "$OUT/modes.json"
+echo; echo "== Table 3: natural frequencies of the free and full-stick systems =="
+step modes json "$OUT/modes.json" $FR modes "$CASE"
+$PY scripts/compare_table3.py "$OUT/modes.json"
 
+echo; echo "== FRF of y2 at alpha = 0 (H = 1, 128 samples/period) =="
+step frf $FR frf "$CASE" --alpha 0,0,0,0 --plot --normalise --out "$OUT/frf"
+
+echo; echo "== Response bounds over 240-290 Hz (Fig. 9) and contact states at the peak (Fig. 10) =="
+step bounds_curve json "$OUT/bounds.json" $FR bounds "$CASE" --points 101 --plot --out "$OUT/bounds"
+FREF=$($PY -c "import json;print(json.load(open('$OUT/bounds.json'))['peak_freq_hz'])")
+$PY -c "import json;j=json.load(open('$OUT/bounds.json'));print(f\"peak of y_max at {j['peak_freq_hz']:.2f} Hz: y_min = {j['y_min']:.4e} m, y_max = {j['y_max']:.4e} m, R = {j['R']:.4f}; states at min {j['states_at_min']}, at max {j['states_at_max']}\")"
+
+echo; echo "== Robustness sweeps at $FREF Hz (Fig. 11, 14) =="
+step sweep_gamma json "$OUT/sweep_gamma.json" $FR sweep "$CASE" --param gamma --from 0 --to 0.43 --steps 44 --freq "$FREF" --plot --out "$OUT/sweep_gamma"
+step sweep_beta json "$OUT/sweep_beta.json" $FR sweep "$CASE" --param beta --from 0 --to 0.2 --steps 41 --freq "$FREF" --plot --out "$OUT/sweep_beta"
+
+echo; echo "== Contact states at gamma = 0.3, 0.43 and beta = 0.1, 0.175 (Fig. 12, 13, 15, 16) =="
+for pv in gamma=0.3 gamma=0.43 beta=0.1 beta=0.175; do
+  step "states_$pv" $FR bounds "$CASE" --set "$pv" --freq "$FREF" --plot --quiet --out "$OUT/states_${pv/=/_}"
+done
+
+echo; echo "== NOA (paper: gamma 0.354 with R = 0.974; beta 0.0794 with R = 1) =="
+step noa_gamma json "$OUT/noa_gamma.json" $FR noa "$CASE" --param gamma --from 0 --to 0.43 --freq "$FREF" --no-sweep --out "$OUT/noa_gamma"
+step noa_beta json "$OUT/noa_beta.json" $FR noa "$CASE" --param beta --from 0 --to 0.2 --freq "$FREF" --no-sweep --out "$OUT/noa_beta"
+for p in gamma beta; do
+  $PY -c "import json;j=json.load(open('$OUT/noa_$p.json'));s=json.load(open('$OUT/sweep_$p.json'));print(f\"NOA $p: p_opt = {j['p_opt']:.4f}, R = {j['R_opt']:.4f}, {j['outer_iterations']} outer iterations, {j['inner_solves']} inner solves, {j['wall_s']:.2f} s; manual sweep: {len(s['values'])} values, {s['inner_solves']} inner solves, {s['wall_s']:.2f} s\")"
+done
+
+# Figures of the per-parameter runs under one roof, and the report.
+mkdir -p "$OUT/figures"
+cp "$OUT/frf/frf.png" "$OUT/figures/frf.png" 2>/dev/null || true
+cp "$OUT/bounds/bounds.png" "$OUT/figures/bounds.png" 2>/dev/null || true
+cp "$OUT/bounds/contacts.png" "$OUT/figures/contacts_baseline.png" 2>/dev/null || true
+for p in gamma beta; do
+  $PY scripts/plot_sweep.py "$OUT/sweep_$p/sweep.h5" "$OUT/figures/sweep_$p.png" --noa "$OUT/noa_$p.json" \
+    $( [ $p = gamma ] && echo --paper-noa 0.354,0.974 || echo --paper-noa 0.0794,1.0 ) || true
+done
+for pv in gamma_0.3 gamma_0.43 beta_0.1 beta_0.175; do
+  cp "$OUT/states_$pv/contacts.png" "$OUT/figures/contacts_$pv.png" 2>/dev/null || true
+done
+{
+  echo "{"
+  first=1
+  for k in "${!T[@]}"; do
+    [ $first -eq 1 ] || echo ","
+    first=0
+    printf '  "%s": %s' "$k" "${T[$k]}"
+  done
+  echo; echo "}"
+} > "$OUT/timings.json"
+$PY scripts/make_report.py --out "$OUT/report.md" --modes "$OUT/modes.json" --bounds "$OUT/bounds.json" \
+  --sweep-gamma "$OUT/sweep_gamma.json" --sweep-beta "$OUT/sweep_beta.json" \
+  --noa-gamma "$OUT/noa_gamma.json" --noa-beta "$OUT/noa_beta.json" \
+  --figures-dir "$OUT/figures" --timings "$OUT/timings.json"
 echo
-echo "== Nonlinear FRF of y2 at alpha = 0 (H = 1, 128 samples/period) =="
-./build/fricrom frf "$CASE" --alpha 0,0,0,0 --plot --normalise --out "$OUT"
-echo
-echo "Results: $OUT/modes.json, $OUT/frf.h5, $OUT/frf.csv, $OUT/frf.png"
+echo "Results in $OUT: report.md, figures/, modes.json, frf/, bounds/, sweep_*/, states_*/, noa_*/"

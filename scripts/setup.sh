@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git bc
   libeigen3-dev            # dense/sparse linear algebra (public headers)
   libsuitesparse-dev       # CHOLMOD (Craig-Bampton factorisation)
   libarpack2-dev           # arpack-ng (shift-invert modes)

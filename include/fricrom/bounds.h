@@ -35,7 +35,17 @@ struct BoundsOptions {
 
   // α vectors the optimisations start from (one entry per contact, each in [−1, 1]). Empty: the
   // default set DefaultAlphaSeeds(num_contacts).
+  enum Method {
+    // Ipopt over [x̂, α] with the equality constraints R = 0 (exact Jacobian, L-BFGS Hessian).
+    kFullSpace,
+    // Projected gradient over α only: every iterate solves R(x, α) = 0 by Newton and the
+    // gradient comes from the adjoint of ∂R/∂x. Much cheaper on the lumped case (the
+    // interior-point iterations crawl along the kinks of the response); same local optima.
+    kReducedSpace,
+  };
+
   std::vector<Eigen::VectorXd> alpha_seeds;
+  Method method = kFullSpace;
   int max_iterations = 200;  // interior-point iterations per run
   double tolerance = 1e-9;   // optimality tolerance of the scaled problem
   Objective objective = kAmplitude;

@@ -145,7 +145,7 @@ struct DesignCommands::State {
   CLI::App* noa = nullptr;
   CLI::App* verify = nullptr;
   // shared options
-  std::string seeds, out, objective = "amplitude";
+  std::string seeds, out, objective = "amplitude", method = "ipopt";
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
   int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
@@ -156,6 +156,7 @@ struct DesignCommands::State {
     BoundsOptions o;
     if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
     if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
+    if (method == "reduced") o.method = BoundsOptions::kReducedSpace;
     return o;
   }
   fs::path OutDir(const Case& c, const std::string& sub) const {
@@ -193,6 +194,10 @@ void DesignCommands::Register(CLI::App& app) {
     cmd->add_option("--seeds", s.seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
     cmd->add_option("--objective", s.objective, "Bound objective: amplitude (default) or loss-factor")
         ->check(CLI::IsMember({"amplitude", "loss-factor"}));
+    cmd->add_option("--method", s.method,
+                    "Bound optimiser: ipopt (full space [x, alpha] with R = 0, default) or reduced "
+                    "(projected gradient over alpha, Newton + adjoint; faster, same optima here)")
+        ->check(CLI::IsMember({"ipopt", "reduced"}));
     cmd->add_option("--out", s.out, "Output directory (default results/<case>/<command>)");
     cmd->add_flag("--json", s.as_json, "Print one JSON object on stdout");
     cmd->add_flag("--quiet", s.quiet, "Print nothing but errors");

@@ -574,6 +574,88 @@ BoundSolution Run(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<BoundsNlp>
   return out;
 }
 
+// Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
+// the α box; x(α) from Newton warm-started at the last iterate, so every iterate satisfies R = 0,
+// and the reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
+BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                         int seed, int max_iterations, double tolerance) {
+  const HbmSystem& sys = *s.system;
+  BoundSolution out;
+  out.seed = seed;
+  auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
+                                Eigen::VectorXd* g) {
+    HbmEvaluation e;
+    HbmRequest req;
+    req.jacobian = req.alpha_jacobian = true;
+    sys.Evaluate(x, s.omega, a, req, &e);
+    Eigen::VectorXd gx, ga;
+    *phi = Objective(s, x, e, &gx, &ga);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
+    if (!(lu.rcond() > 1e-14)) return false;
+    *g = ga - e.alpha_jacobian.transpose() * lu.solve(gx);
+    return g->allFinite();
+  };
+  Eigen::VectorXd x = x0, a = a0, g;
+  double phi = 0.0;
+  auto finish = [&](BoundStatus status, const std::string& message) {
+    out.x = x;
+    out.alpha = a;
+    out.status = status;
+    out.message = message;
+    Describe(sys, s.omega, &out);
+    if (out.status == BoundStatus::kConverged && !(out.residual <= kFeasibility)) {
+      out.status = BoundStatus::kFailed;
+      out.message += "; the point violates R = 0";
+    }
+    return out;
+  };
+  if (!value_and_gradient(x, a, &phi, &g)) {
+    return finish(BoundStatus::kFailed, "singular Jacobian at the start");
+  }
+  const NewtonOptions newton;
+  double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
+  int quiet = 0;
+  for (int it = 0; it < max_iterations; ++it) {
+    out.iterations = it;
+    // First-order conditions on the box: the projected gradient step vanishes.
+    const Eigen::VectorXd pg = (a - g).cwiseMax(-1.0).cwiseMin(1.0) - a;
+    if (pg.lpNorm<Eigen::Infinity>() <= tolerance) {
+      return finish(BoundStatus::kConverged, "reduced space: projected gradient vanishes (KKT)");
+    }
+    bool accepted = false;
+    Eigen::VectorXd a_new, x_new, g_new;
+    double phi_new = 0.0;
+    for (int bt = 0; bt < 40 && !accepted; ++bt, step *= 0.5) {
+      a_new = (a - step * g).cwiseMax(-1.0).cwiseMin(1.0);
+      if ((a_new - a).lpNorm<Eigen::Infinity>() <= 1e-14) break;
+      x_new = x;
+      if (!SolveNewton(HbmAtFrequency(sys, s.omega, a_new), newton, &x_new).IsSolutionUsable()) {
+        continue;
+      }
+      if (!value_and_gradient(x_new, a_new, &phi_new, &g_new)) continue;
+      accepted = phi_new <= phi - 1e-4 * g.dot(a - a_new);
+    }
+    if (!accepted) {
+      return finish(BoundStatus::kConverged,
+                    "reduced space: no descent along the projected gradient (nonsmooth "
+                    "stationary point)");
+    }
+    const Eigen::VectorXd ds = a_new - a, dg = g_new - g;
+    const double change = std::abs(phi - phi_new);
+    x = x_new;
+    a = a_new;
+    g = g_new;
+    phi = phi_new;
+    quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
+    if (quiet >= 3) {
+      return finish(BoundStatus::kConverged, "reduced space: objective stationary");
+    }
+    const double sy = ds.dot(dg);
+    step = sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step;  // Barzilai-Borwein
+  }
+  return finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");
+}
+
 // Ranks runs: the larger, the more response (the maximum response minimises η).
 double RankValue(const BoundSolution& s, BoundsOptions::Objective objective) {
   return objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
@@ -772,7 +854,9 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
       } else if (StartIsKktPoint(setup, x0, seeds[s], options.tolerance)) {
         accept_start("the start is already a KKT point (zero reduced gradient in alpha)");
       } else {
-        sol = Run(*app, nlp, &first_run, setup, x0, seeds[s], s);
+        sol = options.method == BoundsOptions::kReducedSpace
+                  ? RunReduced(setup, x0, seeds[s], s, options.max_iterations, 1e-7)
+                  : Run(*app, nlp, &first_run, setup, x0, seeds[s], s);
         ++result.optimizer_runs;
       }
       BoundSolution& best = maximise_response ? result.max : result.min;

@@ -266,5 +266,23 @@ TEST(Bounds, DefaultSeedsAndStatusNames) {
   EXPECT_EQ(ToString(BoundStatus::kFailed), "failed");
 }
 
+// Two independent optimisers, full-space Ipopt and the reduced-space projected gradient, find the
+// same bounds (they share only the seeds and the harmonic-balance residual).
+TEST(Bounds, FullSpaceAndReducedSpaceAgree) {
+  for (const auto& [param, value] : std::vector<std::pair<std::string, double>>{
+           {"gamma", 0.0}, {"gamma", 0.3}, {"beta", 0.05}, {"beta", 0.175}}) {
+    const Case cs = testing::LoadBaseline({{param, value}});
+    HbmSystem sys(cs.model, HbmOptions{1, 128});
+    BoundsOptions full, reduced;
+    reduced.method = BoundsOptions::kReducedSpace;
+    const BoundsResult a = ComputeBounds(sys, 266.1, full);
+    const BoundsResult b = ComputeBounds(sys, 266.1, reduced);
+    ASSERT_TRUE(a.IsUsable()) << param << "=" << value << "\n" << a.BriefReport();
+    ASSERT_TRUE(b.IsUsable()) << param << "=" << value << "\n" << b.BriefReport();
+    EXPECT_NEAR(a.min.amplitude, b.min.amplitude, 1e-6 * a.max.amplitude) << param << "=" << value;
+    EXPECT_NEAR(a.max.amplitude, b.max.amplitude, 1e-6 * a.max.amplitude) << param << "=" << value;
+  }
+}
+
 }  // namespace
 }  // namespace fricrom
