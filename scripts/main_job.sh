@@ -22,7 +22,7 @@ step() {
   local t0 rc=0
   t0=$(date +%s.%N)
   "$@" || rc=$?
-  T[$name]=$(echo "$(date +%s.%N) - $t0" | bc -l)
+  T[$name]=$(printf "%.3f" "$(echo "$(date +%s.%N) - $t0" | bc -l)")
   if [ "$rc" -eq 1 ]; then echo "main job: step '$name' reported non-converged points (see above)"; fi
   if [ "$rc" -gt 1 ]; then echo "main job: step '$name' failed (exit $rc)"; exit "$rc"; fi
 }
@@ -36,22 +36,22 @@ echo; echo "== FRF of y2 at alpha = 0 (H = 1, 128 samples/period) =="
 step frf $FR frf "$CASE" --alpha 0,0,0,0 --plot --normalise --out "$OUT/frf"
 
 echo; echo "== Response bounds over 240-290 Hz (Fig. 9) and contact states at the peak (Fig. 10) =="
-step bounds_curve json "$OUT/bounds.json" $FR bounds "$CASE" --points 101 --plot --out "$OUT/bounds"
+step bounds_curve json "$OUT/bounds.json" $FR bounds "$CASE" --method reduced --points 101 --plot --out "$OUT/bounds"
 FREF=$($PY -c "import json;print(json.load(open('$OUT/bounds.json'))['peak_freq_hz'])")
 $PY -c "import json;j=json.load(open('$OUT/bounds.json'));print(f\"peak of y_max at {j['peak_freq_hz']:.2f} Hz: y_min = {j['y_min']:.4e} m, y_max = {j['y_max']:.4e} m, R = {j['R']:.4f}; states at min {j['states_at_min']}, at max {j['states_at_max']}\")"
 
 echo; echo "== Robustness sweeps at $FREF Hz (Fig. 11, 14) =="
-step sweep_gamma json "$OUT/sweep_gamma.json" $FR sweep "$CASE" --param gamma --from 0 --to 0.43 --steps 44 --freq "$FREF" --plot --out "$OUT/sweep_gamma"
-step sweep_beta json "$OUT/sweep_beta.json" $FR sweep "$CASE" --param beta --from 0 --to 0.2 --steps 41 --freq "$FREF" --plot --out "$OUT/sweep_beta"
+step sweep_gamma json "$OUT/sweep_gamma.json" $FR sweep "$CASE" --method reduced --param gamma --from 0 --to 0.43 --steps 44 --freq "$FREF" --plot --out "$OUT/sweep_gamma"
+step sweep_beta json "$OUT/sweep_beta.json" $FR sweep "$CASE" --method reduced --param beta --from 0 --to 0.2 --steps 41 --freq "$FREF" --plot --out "$OUT/sweep_beta"
 
 echo; echo "== Contact states at gamma = 0.3, 0.43 and beta = 0.1, 0.175 (Fig. 12, 13, 15, 16) =="
 for pv in gamma=0.3 gamma=0.43 beta=0.1 beta=0.175; do
-  step "states_$pv" $FR bounds "$CASE" --set "$pv" --freq "$FREF" --plot --quiet --out "$OUT/states_${pv/=/_}"
+  step "states_$pv" $FR bounds "$CASE" --method reduced --set "$pv" --freq "$FREF" --plot --quiet --out "$OUT/states_${pv/=/_}"
 done
 
 echo; echo "== NOA (paper: gamma 0.354 with R = 0.974; beta 0.0794 with R = 1) =="
-step noa_gamma json "$OUT/noa_gamma.json" $FR noa "$CASE" --param gamma --from 0 --to 0.43 --freq "$FREF" --no-sweep --out "$OUT/noa_gamma"
-step noa_beta json "$OUT/noa_beta.json" $FR noa "$CASE" --param beta --from 0 --to 0.2 --freq "$FREF" --no-sweep --out "$OUT/noa_beta"
+step noa_gamma json "$OUT/noa_gamma.json" $FR noa "$CASE" --method reduced --param gamma --from 0 --to 0.43 --freq "$FREF" --no-sweep --out "$OUT/noa_gamma"
+step noa_beta json "$OUT/noa_beta.json" $FR noa "$CASE" --method reduced --param beta --from 0 --to 0.2 --freq "$FREF" --no-sweep --out "$OUT/noa_beta"
 for p in gamma beta; do
   $PY -c "import json;j=json.load(open('$OUT/noa_$p.json'));s=json.load(open('$OUT/sweep_$p.json'));print(f\"NOA $p: p_opt = {j['p_opt']:.4f}, R = {j['R_opt']:.4f}, {j['outer_iterations']} outer iterations, {j['inner_solves']} inner solves, {j['wall_s']:.2f} s; manual sweep: {len(s['values'])} values, {s['inner_solves']} inner solves, {s['wall_s']:.2f} s\")"
 done
