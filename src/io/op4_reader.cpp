@@ -3,8 +3,9 @@
 // sparse columns; real and complex, single and double precision. See
 // docs/formats-nastran-op4.md for the layout and the limits.
 //
-// Every matrix is built from triplets that are checked as they are read (row/column ranges,
-// ascending order, finite values); nothing is returned unless the whole file reads cleanly.
+// Entries are checked as they are read (row/column ranges, ascending order, finite values) and
+// each matrix is assembled only when its end record has been read; nothing is returned unless
+// the whole file reads cleanly.
 
 #include <algorithm>
 #include <cctype>
@@ -26,14 +27,16 @@
 namespace fricrom {
 namespace {
 
-using Triplet = Eigen::Triplet<double, int>;
-
 // Eigen's sparse matrices index with int.
 constexpr int64_t kMaxEigenDim = std::numeric_limits<int>::max() - 1;
-// Dimensions up to this are always accepted; beyond it they must be justified by the file size
-// (the column count sizes the outer index array that is allocated up front).
-constexpr int64_t kFreeDimLimit = int64_t{1} << 24;
-constexpr uint64_t kDimPerFileByte = 64;
+// The column count sizes the outer index arrays allocated up front (4 bytes per column, for the
+// real and the imaginary part), so beyond a free allowance it must be justified by the file
+// size. Rows cost no memory of their own (the matrices are built column by column), so their
+// allowance is larger.
+constexpr int64_t kFreeCols = int64_t{1} << 20;
+constexpr uint64_t kColsPerFileByte = 8;
+constexpr int64_t kFreeRows = int64_t{1} << 26;
+constexpr uint64_t kRowsPerFileByte = 64;
 // Non-bigmat sparse strings pack the row into the low 16 bits.
 constexpr int64_t kBigmatRows = 65536;
 
@@ -84,12 +87,16 @@ struct Header {
 // Checks the header fields and fills `h`; returns an error text or "".
 std::string CheckHeader(int64_t cols, int64_t rows, int64_t form, int64_t type, std::string name,
                         size_t file_size, Header& h) {
-  const auto max64 = static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
-  const uint64_t by_size = file_size > max64 / kDimPerFileByte
-                               ? max64
-                               : static_cast<uint64_t>(file_size) * kDimPerFileByte;
-  const int64_t limit = std::min<int64_t>(
-      kMaxEigenDim, std::max<int64_t>(kFreeDimLimit, static_cast<int64_t>(by_size)));
+  auto limit = [file_size](int64_t free, uint64_t per_byte) {
+    const auto max64 = static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
+    const uint64_t by_size = file_size > max64 / per_byte
+                                 ? max64
+                                 : static_cast<uint64_t>(file_size) * per_byte;
+    return std::min<int64_t>(kMaxEigenDim,
+                             std::max<int64_t>(free, static_cast<int64_t>(by_size)));
+  };
+  const int64_t col_limit = limit(kFreeCols, kColsPerFileByte);
+  const int64_t row_limit = limit(kFreeRows, kRowsPerFileByte);
   for (char c : name) {
     const auto u = static_cast<unsigned char>(c);
     if (u < 0x20 || u >= 0x7f) {
@@ -107,10 +114,10 @@ std::string CheckHeader(int64_t cols, int64_t rows, int64_t form, int64_t type, 
   if (cols < 0) return who + "negative column count " + std::to_string(cols);
   if (rows == std::numeric_limits<int64_t>::min()) return who + "absurd row count";
   const int64_t abs_rows = rows < 0 ? -rows : rows;
-  if (cols > limit || abs_rows > limit) {
+  if (cols > col_limit || abs_rows > row_limit) {
     return who + "dimensions " + std::to_string(abs_rows) + " x " + std::to_string(cols) +
-           " are implausible for a file of " + std::to_string(file_size) +
-           " bytes (limit " + std::to_string(limit) + " per dimension)";
+           " are implausible for a file of " + std::to_string(file_size) + " bytes (limits " +
+           std::to_string(row_limit) + " rows, " + std::to_string(col_limit) + " columns)";
   }
   if (form == 6 && abs_rows != cols) {
     return who + "form 6 (symmetric) but not square: " + std::to_string(abs_rows) + " x " +
@@ -133,12 +140,13 @@ class MatrixBuilder {
 
   const Header& header() const { return h_; }
 
-  // A run of `count` entries starting at 1-based `row` of 1-based column `col`.
-  std::string BeginRun(int64_t col, int64_t row, int64_t count) {
+  // Starts (or continues) 1-based column `col`: in range, not before the current column.
+  std::string StartColumn(int64_t col) {
     const std::string who = "matrix '" + h_.name + "': ";
     if (col < 1 || col > h_.cols) {
-      return who + "column " + std::to_string(col) + " out of range 1.." +
-             std::to_string(h_.cols);
+      return who + "column index " + std::to_string(col) + " out of range 1.." +
+             std::to_string(h_.cols) + " (or " + std::to_string(h_.cols + 1) +
+             " to end the matrix)";
     }
     if (col < col_) {
       return who + "column " + std::to_string(col) + " follows column " + std::to_string(col_) +
@@ -148,27 +156,34 @@ class MatrixBuilder {
       col_ = col;
       next_row_ = 1;
     }
+    return "";
+  }
+
+  // A run of `count` entries of the current column starting at 1-based `row`.
+  std::string BeginRun(int64_t row, int64_t count) {
+    const std::string who = "matrix '" + h_.name + "': ";
     if (count < 0) return who + "negative value count";
     if (row < 1 || row > h_.rows) {
-      return who + "row " + std::to_string(row) + " of column " + std::to_string(col) +
+      return who + "row " + std::to_string(row) + " of column " + std::to_string(col_) +
              " out of range 1.." + std::to_string(h_.rows);
     }
     if (count > h_.rows - row + 1) {
-      return who + "column " + std::to_string(col) + ": " + std::to_string(count) +
+      return who + "column " + std::to_string(col_) + ": " + std::to_string(count) +
              " values starting at row " + std::to_string(row) + " run past row " +
              std::to_string(h_.rows);
     }
     if (row < next_row_) {
-      return who + "column " + std::to_string(col) + ": row " + std::to_string(row) +
+      return who + "column " + std::to_string(col_) + ": row " + std::to_string(row) +
              " given again (rows must ascend within a column)";
     }
     next_row_ = row + count;
     return "";
   }
 
+  // Entries arrive sorted by column, then row (StartColumn/BeginRun enforce it).
   void Add(int64_t row, int64_t col, double re, double im) {
-    if (re != 0.0) re_.emplace_back(static_cast<int>(row - 1), static_cast<int>(col - 1), re);
-    if (im != 0.0) im_.emplace_back(static_cast<int>(row - 1), static_cast<int>(col - 1), im);
+    if (re != 0.0) re_.push_back({static_cast<int>(row - 1), static_cast<int>(col - 1), re});
+    if (im != 0.0) im_.push_back({static_cast<int>(row - 1), static_cast<int>(col - 1), im});
   }
 
   FeMatrix Finish(int precision_bits) {
@@ -179,21 +194,36 @@ class MatrixBuilder {
     m.symmetric = h_.form == 6;
     m.is_complex = h_.Complex();
     m.source_precision_bits = precision_bits;
-    m.real.resize(static_cast<Eigen::Index>(h_.rows), static_cast<Eigen::Index>(h_.cols));
-    m.real.setFromTriplets(re_.begin(), re_.end());
-    if (m.is_complex) {
-      m.imag.resize(static_cast<Eigen::Index>(h_.rows), static_cast<Eigen::Index>(h_.cols));
-      m.imag.setFromTriplets(im_.begin(), im_.end());
-    }
+    Build(re_, m.real);
+    if (m.is_complex) Build(im_, m.imag);
     return m;
   }
 
  private:
+  struct Entry {
+    int row;
+    int col;
+    double value;
+  };
+
+  // Fills the compressed storage directly from the sorted entries: no transposed temporary,
+  // so only the column count and the entry count cost memory.
+  void Build(const std::vector<Entry>& e, Eigen::SparseMatrix<double>& out) const {
+    out.resize(static_cast<Eigen::Index>(h_.rows), static_cast<Eigen::Index>(h_.cols));
+    out.reserve(static_cast<Eigen::Index>(e.size()));
+    size_t k = 0;
+    for (int j = 0; j < static_cast<int>(h_.cols); ++j) {
+      out.startVec(j);
+      for (; k < e.size() && e[k].col == j; ++k) out.insertBack(e[k].row, j) = e[k].value;
+    }
+    out.finalize();
+  }
+
   Header h_;
   int64_t col_ = 0;
   int64_t next_row_ = 1;
-  std::vector<Triplet> re_;
-  std::vector<Triplet> im_;
+  std::vector<Entry> re_;
+  std::vector<Entry> im_;
 };
 
 // ------------------------------------------------------------------------------------------
@@ -350,11 +380,7 @@ class BinaryOp4 {
       const int64_t irow = Int(r.begin + w);
       const int64_t nwords = Int(r.begin + 2 * w);
       if (icol == h.cols + 1) break;  // end-of-matrix record; its dummy value is not used
-      if (icol < 1 || icol > h.cols) {
-        Fail(r.begin, "matrix '" + h.name + "': column index " + std::to_string(icol) +
-                          " out of range 1.." + std::to_string(h.cols) + " (or " +
-                          std::to_string(h.cols + 1) + " to end the matrix)");
-      }
+      if (std::string err = b.StartColumn(icol); !err.empty()) Fail(r.begin, err);
       const size_t data_bytes = r.size - 3 * w;
       if (nwords < 0 || data_bytes % w != 0 ||
           static_cast<uint64_t>(nwords) != data_bytes / w) {
@@ -373,7 +399,7 @@ class BinaryOp4 {
                                     " words per entry");
         }
         const int64_t count = nwords / unit;
-        if (std::string err = b.BeginRun(icol, irow, count); !err.empty()) Fail(r.begin + w, err);
+        if (std::string err = b.BeginRun(irow, count); !err.empty()) Fail(r.begin + w, err);
         values(p, icol, irow, count);
       } else if (irow == 0) {  // sparse: strings of consecutive rows
         int64_t left = nwords;
@@ -410,7 +436,7 @@ class BinaryOp4 {
                                 " words left in the record)");
           }
           const int64_t count = words / unit;
-          if (std::string err = b.BeginRun(icol, row, count); !err.empty()) Fail(string_at, err);
+          if (std::string err = b.BeginRun(row, count); !err.empty()) Fail(string_at, err);
           p += static_cast<size_t>(head) * w;
           values(p, icol, row, count);
           p += static_cast<size_t>(words) * w;
@@ -603,9 +629,12 @@ class AsciiOp4 {
   void Numbers(int64_t count, std::vector<double>& out, const std::string& what) {
     out.clear();
     while (static_cast<int64_t>(out.size()) < count) {
-      const std::string_view line =
-          RequireLine(std::to_string(count - static_cast<int64_t>(out.size())) +
-                      " more numbers of " + what);
+      std::string_view line;
+      if (!NextLine(line)) {  // message built only on failure: this is the hot loop
+        Fail(line_no_ + 1, "unexpected end of file (truncated?): expected " +
+                               std::to_string(count - static_cast<int64_t>(out.size())) +
+                               " more numbers of " + what);
+      }
       const int64_t k = std::min<int64_t>(perline_, count - static_cast<int64_t>(out.size()));
       for (int64_t i = 0; i < k; ++i) {
         out.push_back(Field(line, static_cast<size_t>(i), k, what));
@@ -628,7 +657,7 @@ class AsciiOp4 {
     for (char c : fmt) {
       if (c != ' ' && c != '(' && c != ')') f += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     }
-    if (f.rfind("1P,", 0) == 0) f.erase(0, 3);
+    if (f.rfind("1P", 0) == 0) f.erase(0, f.size() > 2 && f[2] == ',' ? 3 : 2);
     const size_t e = f.find_first_of("ED");
     int64_t perline = 0;
     int64_t width = 0;
@@ -692,15 +721,11 @@ class AsciiOp4 {
         }
         break;
       }
-      if (icol < 1 || icol > h.cols) {
-        Fail("matrix '" + h.name + "': column index " + std::to_string(icol) + " out of range 1.." +
-             std::to_string(h.cols) + " (or " + std::to_string(h.cols + 1) +
-             " to end the matrix)");
-      }
+      if (std::string err = b.StartColumn(icol); !err.empty()) Fail(err);
       if (nw < 0) Fail(what + ": negative word count " + std::to_string(nw));
       if (irow > 0) {  // dense: nw numbers (real, or real/imaginary pairs) from row irow
         if (nw % cplx != 0) Fail(what + ": odd number count " + std::to_string(nw) + " for a complex matrix");
-        if (std::string err = b.BeginRun(icol, irow, nw / cplx); !err.empty()) Fail(err);
+        if (std::string err = b.BeginRun(irow, nw / cplx); !err.empty()) Fail(err);
         Numbers(nw, nums, what);
         add(icol, irow);
       } else if (irow == 0) {  // sparse: strings, nw counts words including string headers
@@ -727,7 +752,7 @@ class AsciiOp4 {
                  " words (expected a positive multiple of " + std::to_string(unit) +
                  " within the " + std::to_string(left) + " words left in the column)");
           }
-          if (std::string err = b.BeginRun(icol, row, words / unit); !err.empty()) Fail(err);
+          if (std::string err = b.BeginRun(row, words / unit); !err.empty()) Fail(err);
           Numbers(words / wpn, nums, what);
           add(icol, row);
           left -= head + words;

@@ -239,4 +239,52 @@ TEST(Cli, CaseAppliesOverrides) {
   EXPECT_NE(r.output.find("180"), std::string::npos) << r.output;
 }
 
+// Issue 3's JSON contract for `bounds --freq` and `noa`.
+TEST(Cli, BoundsJsonHasTheDocumentedKeys) {
+  TempDir tmp;
+  const CliRun r = Stdout("bounds " + Quote(kBaseline) + " --freq 266 --json --out " +
+                          Quote(tmp.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  for (const char* key : {"freq_hz", "y_min", "y_max", "eta_min", "eta_max", "alpha_at_min",
+                          "alpha_at_max", "states_at_min", "states_at_max", "R", "status",
+                          "mixed_configuration_at_min", "mixed_configuration_at_max"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j.at("status"), "converged");
+  EXPECT_LE(j.at("y_min").get<double>(), j.at("y_max").get<double>());
+  EXPECT_LE(j.at("eta_min").get<double>(), j.at("eta_max").get<double>());
+  EXPECT_NEAR(j.at("R").get<double>(),
+              1.0 - (j.at("y_max").get<double>() - j.at("y_min").get<double>()) /
+                        j.at("y_max").get<double>(),
+              1e-12);
+  EXPECT_EQ(j.at("alpha_at_min").size(), 4u);
+  EXPECT_EQ(j.at("states_at_min").size(), 4u);
+  // Baseline near resonance: the mixed configuration on both dampers (paper Fig. 10).
+  EXPECT_EQ(j.at("mixed_configuration_at_min"), nlohmann::json({true, true}));
+  EXPECT_TRUE(fs::exists(tmp.path() / "bounds.h5"));
+}
+
+TEST(Cli, NoaJsonHasTheDocumentedKeys) {
+  TempDir tmp;
+  const CliRun r = Stdout("noa " + Quote(kBaseline) +
+                          " --param beta --from 0 --to 0.2 --freq 266 --method reduced "
+                          "--sweep-steps 5 --json --out " + Quote(tmp.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  for (const char* key : {"param", "p_opt", "R_opt", "eta1", "eta2", "outer_iterations",
+                          "inner_solves", "wall_s", "manual_sweep"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j.at("param"), "beta");
+  EXPECT_NEAR(j.at("R_opt").get<double>(), 1.0, 1e-6);
+  EXPECT_EQ(j.at("manual_sweep").at("steps"), 5);
+}
+
+TEST(Cli, SweepOfAnUnknownParameterIsAnError) {
+  const CliRun r = Stderr("sweep " + Quote(kBaseline) + " --param nosuch --from 0 --to 1 --steps 2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+}
+
 }  // namespace
