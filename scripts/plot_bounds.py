@@ -52,7 +52,8 @@ if _MISSING:
 import argparse
 import os
 
-import fricrom_plot_common as common
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import fricrom_plot_common as common  # noqa: E402
 from fricrom_plot_common import InputError
 
 SCRIPT = "plot_bounds.py"
@@ -106,7 +107,7 @@ def make_figure(res, normalise):
             raise InputError("--normalise: the full-stick curve has no positive finite maximum")
         scale = float(np.max(stick))
 
-    fig, ax = plt.subplots(figsize=(8.0, 5.0))
+    fig, ax = plt.subplots(figsize=(8.0, 5.6))
     reliable = []
 
     order = np.argsort(lin["freq"], kind="stable")
@@ -160,7 +161,8 @@ def make_figure(res, normalise):
         clipped = bool(np.any(bad_a > top))
         ax.plot(bad_f, np.minimum(bad_a, top), linestyle="none", marker="x", color="red",
                 markersize=7, markeredgewidth=1.6, clip_on=False, zorder=5,
-                label=f"not converged ({n_bad})" + (" (clipped to axis)" if clipped else ""))
+                label=f"not converged: {n_bad}" + (f" ({lost} without amplitude)" if lost else "")
+                + (", top clipped" if clipped else ""))
     elif lost:
         ax.plot([], [], linestyle="none", marker="x", color="red",
                 label=f"not converged ({lost}, no amplitude)")
@@ -205,9 +207,13 @@ def make_figure(res, normalise):
         title += f" at {f[0]:.2f} Hz"
     ax.set_title(title)
     ax.grid(True, color="0.9", linewidth=0.8)
-    ax.legend(loc="best", fontsize=9, framealpha=0.9)
+    # Below the axes: inside, it would hide the curves or the peak annotation.
+    handles, labels = ax.get_legend_handles_labels()
+    rows = -(-len(handles) // 3)
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.02), ncol=3,
+               fontsize=9, frameon=False)
     common.footer(fig, res["version"])
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.035 + 0.045 * rows, 1.0, 1.0))
     return fig
 
 

@@ -61,7 +61,8 @@ if _MISSING:
 import argparse
 import os
 
-import fricrom_plot_common as common
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import fricrom_plot_common as common  # noqa: E402
 from fricrom_plot_common import InputError
 
 SCRIPT = "plot_contacts.py"
@@ -134,15 +135,15 @@ def read_histories(path, only):
             raise InputError(f"{path}: '/histories/mu' has {len(mu)} entries, "
                              f"'/histories/contacts' has {nc}")
         wanted = [only] if only else ["min", "max"]
-        rows = {}
-        for w in wanted:
-            if f"histories/{w}" not in h5 and not only:
-                common.warn(SCRIPT, f"{path}: group '/histories/{w}' is missing (that bound did "
-                                    "not converge?); drawing the other response only")
-                continue
-            rows[w] = _read_history(h5, w, nc)
-        if not rows:
-            raise InputError(f"{path}: neither '/histories/min' nor '/histories/max' is present")
+        present = [w for w in wanted if f"histories/{w}" in h5]
+        if not only and not present:
+            raise InputError(f"{path}: neither '/histories/min' nor '/histories/max' is present "
+                             "(no bound converged?)")
+        if not only and len(present) < len(wanted):
+            missing = [w for w in wanted if w not in present][0]
+            common.warn(SCRIPT, f"{path}: group '/histories/{missing}' is missing (that bound did "
+                                "not converge?); drawing the other response only")
+        rows = {w: _read_history(h5, w, nc) for w in (present if not only else wanted)}
         return {
             "case_name": common.attr_str(h5, "case_name", os.path.splitext(os.path.basename(path))[0]),
             "version": common.attr_str(h5, "fricrom_version", "?"),
@@ -182,18 +183,18 @@ def _format_alpha(alpha):
     return "(" + ", ".join(f"{a:.3g}" for a in alpha) + ")"
 
 
-def _row_title(key, row, dof):
-    parts = [ROW_TITLES[key]]
+def _row_title(key, row, dof, width_in):
     details = []
     if row["freq"] is not None:
         details.append(f"{row['freq']:.2f} Hz")
     if row["amplitude"] is not None and np.isfinite(row["amplitude"]):
         details.append(f"amplitude of {dof or 'response DOF'} = {row['amplitude']:.4e} m")
+    title = ROW_TITLES[key] + (": " + ", ".join(details) if details else "")
     if row["alpha"] is not None:
-        details.append("\u03b1 = " + _format_alpha(row["alpha"]))
-    if details:
-        parts.append(", ".join(details))
-    return ": ".join(parts)
+        alpha = "\u03b1 = " + _format_alpha(row["alpha"])
+        # about 10 bold 11-pt characters per inch; wrap rather than run off the figure
+        title += (", " if len(title) + len(alpha) + 2 <= 10 * width_in else "\n") + alpha
+    return title
 
 
 def make_figure(res):
@@ -204,8 +205,6 @@ def make_figure(res):
     height = 3.0 * nrows + 0.9
     fig = plt.figure(figsize=(width, height), layout="constrained")
     subs = fig.subfigures(nrows + 1, 1, height_ratios=[1.0] * nrows + [0.16])
-    if nrows + 1 == 1:
-        subs = [subs]
 
     # One force scale for every panel, so that contacts and responses compare at a glance.
     lo, hi = 0.0, 0.0
@@ -224,7 +223,8 @@ def make_figure(res):
         row = res["rows"][k]
         sf = subs[ri]
         axes = sf.subplots(1, nc, sharey=True, squeeze=False)[0]
-        sf.suptitle(_row_title(k, row, res["response_dof"]), fontsize=11, fontweight="bold")
+        sf.suptitle(_row_title(k, row, res["response_dof"], width), fontsize=11,
+                    fontweight="bold")
         t_ms = row["time"] * 1e3
         period_ms = row["period"] * 1e3
         for c, ax in enumerate(axes):

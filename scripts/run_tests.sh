@@ -6,3 +6,5 @@ bash scripts/setup.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+# libFuzzer smoke run of the FE readers (clang, ASan + UBSan; a few seconds per target).
+bash scripts/fuzz_smoke.sh

@@ -18,6 +18,8 @@ PACKAGES=(
   libmuparser-dev          # parameter expressions in case files
   nlohmann-json3-dev       # --json output
   python3-matplotlib python3-numpy python3-h5py   # figures (system /usr/bin/python3)
+  clang libclang-rt-14-dev # libFuzzer smoke run of the FE readers
+  calculix-ccx             # regenerates the CalculiX fixtures
 )
 
 missing=()

@@ -64,6 +64,9 @@ struct FeModel {
   std::vector<FeMatrix> matrices;
   std::vector<FeNode> nodes;
   std::vector<CoordinateSystem> systems;
+  // DOF order of an external superelement (Nastran EXTRN card: grids with their components, then
+  // the modal SPOINTs); empty when the file has none.
+  std::vector<DofId> external_dofs;
 
   // Case-insensitive lookup; nullptr if absent.
   const FeMatrix* Find(const std::string& name) const;

@@ -15,8 +15,10 @@
 #include "app/atomic_file.h"
 #include "app/cli_common.h"
 #include "app/design_commands.h"
+#include "app/fe_commands.h"
 #include "app/hdf5_writer.h"
 #include "fricrom/case.h"
+#include "fricrom/fe_model.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm.h"
 #include "fricrom/linear.h"
@@ -307,6 +309,8 @@ int Run(int argc, char** argv) {
 
   DesignCommands design;
   design.Register(app);
+  FeCommands fe;
+  fe.Register(app);
 
   try {
     app.parse(argc, argv);
@@ -319,6 +323,11 @@ int Run(int argc, char** argv) {
     if (*casecmd) return RunCase(case_args);
     const int rc = design.Run();
     if (rc >= 0) return rc;
+    const int fe_rc = fe.Run();
+    if (fe_rc >= 0) return fe_rc;
+  } catch (const FeReadError& e) {
+    std::cerr << "fricrom: error: " << e.what() << "\n";
+    return 2;
   } catch (const CaseError& e) {
     std::cerr << "fricrom: error: " << e.what() << "\n";
     return 2;

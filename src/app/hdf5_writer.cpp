@@ -89,6 +89,10 @@ void Hdf5Writer::IntVector(const std::string& path, const std::vector<int>& valu
   const hsize_t dims[1] = {values.size()};
   impl_->Write(path, H5T_NATIVE_INT, 1, dims, values.data());
 }
+void Hdf5Writer::Int64Vector(const std::string& path, const std::vector<int64_t>& values) {
+  const hsize_t dims[1] = {values.size()};
+  impl_->Write(path, H5T_NATIVE_INT64, 1, dims, values.data());
+}
 void Hdf5Writer::Matrix(const std::string& path, const Eigen::MatrixXd& values) {
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm = values;
   const hsize_t dims[2] = {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())};

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -22,6 +23,7 @@ class Hdf5Writer {
   void Vector(const std::string& path, const std::vector<double>& values);
   void Vector(const std::string& path, const Eigen::VectorXd& values);
   void IntVector(const std::string& path, const std::vector<int>& values);
+  void Int64Vector(const std::string& path, const std::vector<int64_t>& values);
   void Matrix(const std::string& path, const Eigen::MatrixXd& values);  // rows x cols
   void Strings(const std::string& path, const std::vector<std::string>& values);
   void String(const std::string& path, const std::string& value);  // scalar string dataset

@@ -1,2 +1,148 @@
-// placeholder: being written
+// CalculiX `*FREQUENCY, SOLVER=MATRIXSTORAGE` output: prefix.sti (stiffness) and prefix.mas
+// (mass), coordinate triplets `row col value` (1-based, upper triangle of a symmetric matrix), and
+// prefix.dof, one `node.direction` line per row. Format notes: docs/formats-abaqus-calculix-mtx.md.
+#include <filesystem>
+#include <functional>
+#include <string_view>
+
 #include "fricrom/fe_model.h"
+
+namespace fricrom {
+
+// Shared text helpers, defined in fe_model.cpp.
+namespace fe_text {
+struct TextEntry {
+  int64_t row = 0;
+  int64_t col = 0;
+  double re = 0;
+  double im = 0;
+  size_t line = 0;
+};
+std::string Printable(std::string_view s);
+[[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what);
+std::string ReadWholeFile(const std::string& path, const std::string& what);
+bool NextLine(std::string_view text, size_t& pos, std::string_view& line);
+std::string_view Trim(std::string_view s);
+bool ParseInt(std::string_view s, int64_t& out);
+double RequireReal(std::string_view field, bool nastran, const std::string& file, size_t line,
+                   const std::string& what);
+int64_t RequireInt(std::string_view field, const std::string& file, size_t line,
+                   const std::string& what);
+void SplitTokens(std::string_view line, std::vector<std::string_view>& tokens);
+std::string DescribeDof(const DofId& d);
+void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,
+                     const std::vector<size_t>& lines);
+void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
+                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe);
+}  // namespace fe_text
+
+namespace {
+
+using fe_text::Fail;
+
+std::vector<DofId> ReadDofFile(const std::string& path) {
+  const std::string text = fe_text::ReadWholeFile(path, "CalculiX .dof file");
+  std::vector<DofId> dofs;
+  std::vector<size_t> lines;
+  size_t pos = 0, number = 0;
+  std::string_view line;
+  while (fe_text::NextLine(text, pos, line)) {
+    ++number;
+    const std::string_view t = fe_text::Trim(line);
+    if (t.empty()) continue;
+    const size_t dot = t.find('.');
+    int64_t node = 0, dir = -1;
+    if (dot == std::string_view::npos || !fe_text::ParseInt(t.substr(0, dot), node) ||
+        !fe_text::ParseInt(t.substr(dot + 1), dir) || t.substr(dot + 1).front() == '-' ||
+        t.substr(dot + 1).front() == '+') {
+      Fail(path, number, "expected 'node.direction' (e.g. 12.3), got " + fe_text::Printable(t));
+    }
+    if (node <= 0) Fail(path, number, "expected a node number > 0, got " + std::to_string(node));
+    if (dir > 6) {
+      Fail(path, number, "expected a direction 0..6, got " + std::to_string(dir));
+    }
+    dofs.push_back(DofId{node, static_cast<int>(dir)});
+    lines.push_back(number);
+  }
+  if (dofs.empty()) Fail(path, 0, "empty .dof file: expected one 'node.direction' line per row");
+  fe_text::CheckUniqueDofs(path, dofs, lines);
+  return dofs;
+}
+
+FeMatrix ReadTriplets(const std::string& path, const std::string& name,
+                      const std::vector<DofId>& dofs) {
+  const std::string text = fe_text::ReadWholeFile(path, "CalculiX matrix file");
+  FeMatrix m;
+  m.name = name;
+  m.rows = m.cols = static_cast<int64_t>(dofs.size());
+  m.symmetric = true;
+  m.row_dofs = m.col_dofs = dofs;
+  std::vector<fe_text::TextEntry> entries;
+  std::vector<std::string_view> tokens;
+  size_t pos = 0, number = 0;
+  std::string_view line;
+  while (fe_text::NextLine(text, pos, line)) {
+    ++number;
+    fe_text::SplitTokens(line, tokens);
+    if (tokens.empty()) continue;
+    if (tokens.size() != 3) {
+      Fail(path, number,
+           "expected 'row column value', got " + std::to_string(tokens.size()) + " fields" +
+               (tokens.size() < 3 ? " (truncated line?)" : ""));
+    }
+    fe_text::TextEntry e;
+    e.row = fe_text::RequireInt(tokens[0], path, number, "a row number") - 1;
+    e.col = fe_text::RequireInt(tokens[1], path, number, "a column number") - 1;
+    e.re = fe_text::RequireReal(tokens[2], false, path, number, "the matrix value");
+    e.line = number;
+    entries.push_back(e);
+  }
+  if (entries.empty()) Fail(path, 0, "no matrix entries (empty file)");
+  const auto describe = [&](int64_t r, int64_t c) {
+    return "(row " + std::to_string(r + 1) + " = " + fe_text::DescribeDof(dofs[r]) + ", column " +
+           std::to_string(c + 1) + " = " + fe_text::DescribeDof(dofs[c]) + ")";
+  };
+  for (const auto& e : entries) {
+    if (e.row < 0 || e.col < 0 || e.row >= m.rows || e.col >= m.cols) {
+      Fail(path, e.line,
+           "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
+               std::to_string(e.col + 1) + " (the .dof file lists " + std::to_string(m.rows) +
+               " DOFs)");
+    }
+  }
+  fe_text::AssembleEntries(path, entries, true, m, describe);
+  return m;
+}
+
+}  // namespace
+
+FeModel ReadCalculix(const std::string& prefix) {
+  const std::string dof_path = prefix + ".dof", sti = prefix + ".sti", mas = prefix + ".mas";
+  const bool has_sti = std::filesystem::exists(sti), has_mas = std::filesystem::exists(mas);
+  if (!has_sti && !has_mas) {
+    Fail(prefix, 0,
+         "no CalculiX matrix files: expected " + sti + " and/or " + mas +
+             " (written by *FREQUENCY, SOLVER=MATRIXSTORAGE)");
+  }
+  if (!std::filesystem::exists(dof_path)) {
+    Fail(dof_path, 0,
+         "missing .dof file: expected one 'node.direction' line per matrix row, written by "
+         "CalculiX next to " +
+             (has_sti ? sti : mas));
+  }
+  const std::vector<DofId> dofs = ReadDofFile(dof_path);
+  FeModel model;
+  model.format = "calculix";
+  model.source = dof_path;
+  if (has_sti) {
+    model.matrices.push_back(ReadTriplets(sti, "STIFFNESS", dofs));
+    model.source += ", " + sti;
+  }
+  if (has_mas) {
+    model.matrices.push_back(ReadTriplets(mas, "MASS", dofs));
+    model.source += ", " + mas;
+  }
+  return model;
+}
+
+}  // namespace fricrom

@@ -1,2 +1,499 @@
-// placeholder: being written
+// FeModel::Find, ReadFe (reader dispatch) and the text helpers shared by the text readers
+// (nastran_punch.cpp, abaqus_reader.cpp, calculix_reader.cpp, matrix_market.cpp).
+//
+// The shared helpers live in namespace fricrom::fe_text. They are not in a header because the
+// public header is fixed; each reader repeats the few declarations it uses (a mismatch is a link
+// error, not silent misbehaviour).
 #include "fricrom/fe_model.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <new>
+#include <numeric>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+namespace fricrom {
+
+namespace fe_text {
+
+// Largest row/column count accepted from a file (Eigen's 32-bit storage index and memory: a
+// sparse matrix stores one int per column even when empty).
+constexpr int64_t kMaxDimension = 100'000'000;
+
+std::string Printable(std::string_view s) {
+  constexpr size_t kMax = 40;
+  std::string out;
+  for (size_t i = 0; i < s.size() && i < kMax; ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 32 && c < 127) {
+      out += static_cast<char>(c);
+    } else {
+      static const char* kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (s.size() > kMax) out += "...";
+  return "'" + out + "'";
+}
+
+[[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what) {
+  std::string msg = file;
+  if (line > 0) msg += ":" + std::to_string(line);
+  msg += ": " + what;
+  throw FeReadError(msg);
+}
+
+std::string ReadWholeFile(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status))
+    Fail(path, 0, "cannot open " + what + ": no such file");
+  if (std::filesystem::is_directory(status))
+    Fail(path, 0, "expected " + what + ", got a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) Fail(path, 0, "cannot open " + what);
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) Fail(path, 0, "error while reading " + what);
+  return std::move(s).str();
+}
+
+// Next line of `text` from `pos` (without the line break and a trailing '\r'); false at the end.
+bool NextLine(std::string_view text, size_t& pos, std::string_view& line) {
+  if (pos >= text.size()) return false;
+  const size_t end = text.find('\n', pos);
+  const size_t stop = end == std::string_view::npos ? text.size() : end;
+  line = text.substr(pos, stop - pos);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  pos = end == std::string_view::npos ? text.size() : end + 1;
+  return true;
+}
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+std::string Upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// Whole (trimmed) field as a base-10 integer; a leading '+' is allowed.
+bool ParseInt(std::string_view s, int64_t& out) {
+  s = Trim(s);
+  if (!s.empty() && s.front() == '+') {
+    s.remove_prefix(1);
+    if (!s.empty() && (s.front() == '+' || s.front() == '-')) return false;
+  }
+  if (s.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  return ec == std::errc() && ptr == s.data() + s.size();
+}
+
+enum class RealStatus { kOk, kEmpty, kBad, kNonFinite };
+
+// Whole (trimmed) field as a double. Accepts a leading '+', 'D'/'d' exponents, and with
+// `nastran` the implicit exponent of Nastran fields ("1.5-3" = 1.5e-3, "2.+5" = 2e5). NaN, Inf
+// and values overflowing a double are kNonFinite; underflow gives the nearest double.
+RealStatus ParseReal(std::string_view s, double& out, bool nastran) {
+  s = Trim(s);
+  if (s.empty()) return RealStatus::kEmpty;
+  if (s.front() == '+') {
+    s.remove_prefix(1);
+    if (s.empty() || s.front() == '+' || s.front() == '-') return RealStatus::kBad;
+  }
+  bool needs_copy = false;
+  bool has_exponent = false;
+  size_t implicit_at = std::string_view::npos;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == 'd' || c == 'D') needs_copy = true;
+    if (c == 'd' || c == 'D' || c == 'e' || c == 'E') has_exponent = true;
+    if ((c == '+' || c == '-') && i > 0 && implicit_at == std::string_view::npos) {
+      const char p = s[i - 1];
+      if ((p >= '0' && p <= '9') || p == '.') implicit_at = i;
+    }
+  }
+  if (nastran && !has_exponent && implicit_at != std::string_view::npos) needs_copy = true;
+  char small[64];
+  std::string big;
+  const char* first = s.data();
+  const char* last = s.data() + s.size();
+  if (needs_copy) {
+    char* buf = small;
+    if (s.size() + 2 > sizeof(small)) {
+      big.resize(s.size() + 2);
+      buf = big.data();
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < s.size(); ++i) {
+      if (nastran && !has_exponent && i == implicit_at) buf[n++] = 'e';
+      const char c = s[i];
+      buf[n++] = (c == 'd' || c == 'D') ? 'e' : c;
+    }
+    first = buf;
+    last = buf + n;
+  }
+  const auto [ptr, ec] = std::from_chars(first, last, out, std::chars_format::general);
+  if (ptr != last || ec == std::errc::invalid_argument) return RealStatus::kBad;
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars reports both overflow and underflow; strtod tells them apart.
+    const std::string copy(first, last);
+    errno = 0;
+    const double v = std::strtod(copy.c_str(), nullptr);
+    if (std::isinf(v)) return RealStatus::kNonFinite;
+    out = v;
+  } else if (ec != std::errc()) {
+    return RealStatus::kBad;
+  }
+  if (!std::isfinite(out)) return RealStatus::kNonFinite;
+  return RealStatus::kOk;
+}
+
+// Number parse with the error message every reader uses.
+double RequireReal(std::string_view field, bool nastran, const std::string& file, size_t line,
+                   const std::string& what) {
+  double v = 0;
+  switch (ParseReal(field, v, nastran)) {
+    case RealStatus::kOk:
+      return v;
+    case RealStatus::kEmpty:
+      Fail(file, line, "expected " + what + " (a real number), got an empty field");
+    case RealStatus::kNonFinite:
+      Fail(file, line,
+           "expected " + what + " as a finite real number, got " + Printable(field) +
+               " (NaN, Inf or beyond the double range)");
+    case RealStatus::kBad:
+      break;
+  }
+  Fail(file, line, "expected " + what + " (a real number), got " + Printable(field));
+}
+
+int64_t RequireInt(std::string_view field, const std::string& file, size_t line,
+                   const std::string& what) {
+  int64_t v = 0;
+  if (!ParseInt(field, v)) {
+    Fail(file, line,
+         "expected " + what + " (an integer), got " +
+             (Trim(field).empty() ? std::string("an empty field") : Printable(field)));
+  }
+  return v;
+}
+
+// Splits `line` into the tokens separated by blanks, tabs and/or commas (no empty tokens).
+void SplitTokens(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  size_t i = 0;
+  const size_t n = line.size();
+  while (i < n) {
+    while (i < n && (line[i] == ' ' || line[i] == '\t' || line[i] == ',')) ++i;
+    if (i >= n) break;
+    const size_t start = i;
+    while (i < n && line[i] != ' ' && line[i] != '\t' && line[i] != ',') ++i;
+    tokens.push_back(line.substr(start, i - start));
+  }
+}
+
+bool DofLess(const DofId& a, const DofId& b) {
+  return a.node != b.node ? a.node < b.node : a.component < b.component;
+}
+
+std::string DescribeDof(const DofId& d) {
+  return "node " + std::to_string(d.node) + " component " + std::to_string(d.component);
+}
+
+// One matrix entry as read from a text file; row/col are 0-based.
+struct TextEntry {
+  int64_t row = 0;
+  int64_t col = 0;
+  double re = 0;
+  double im = 0;
+  size_t line = 0;
+};
+
+// True when some off-diagonal entry (i, j) also appears as (j, i).
+bool HasTransposePair(const std::vector<TextEntry>& entries) {
+  std::vector<std::pair<int64_t, int64_t>> keys;
+  keys.reserve(entries.size());
+  for (const TextEntry& e : entries) {
+    if (e.row != e.col) keys.emplace_back(e.row, e.col);
+  }
+  std::sort(keys.begin(), keys.end());
+  for (const auto& [r, c] : keys) {
+    if (std::binary_search(keys.begin(), keys.end(), std::make_pair(c, r))) return true;
+  }
+  return false;
+}
+
+// Fills m.real (and m.imag when m.is_complex) from `entries`. m.rows, m.cols must be set.
+// Errors: an index out of range, an entry given twice, and, when `symmetric`, an off-diagonal
+// entry given in both triangles. Symmetric storage is expanded to both triangles.
+void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
+                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe) {
+  const auto where = [&](int64_t r, int64_t c) {
+    if (describe) return describe(r, c);
+    return "(row " + std::to_string(r + 1) + ", column " + std::to_string(c + 1) + ")";
+  };
+  if (m.rows < 0 || m.cols < 0 || m.rows > kMaxDimension || m.cols > kMaxDimension) {
+    Fail(file, 0,
+         "matrix size " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+             " out of the supported range (0.." + std::to_string(kMaxDimension) + ")");
+  }
+  if (symmetric && m.rows != m.cols) {
+    Fail(file, 0,
+         "a symmetric matrix must be square, got " + std::to_string(m.rows) + " x " +
+             std::to_string(m.cols));
+  }
+  if (entries.size() > static_cast<size_t>(std::numeric_limits<int>::max() / 2)) {
+    Fail(file, 0, "too many matrix entries (" + std::to_string(entries.size()) + ")");
+  }
+  for (const TextEntry& e : entries) {
+    if (e.row < 0 || e.row >= m.rows || e.col < 0 || e.col >= m.cols) {
+      Fail(file, e.line,
+           "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
+               std::to_string(e.col + 1) + " in a " + std::to_string(m.rows) + " x " +
+               std::to_string(m.cols) + " matrix (expected 1.." + std::to_string(m.rows) + ", 1.." +
+               std::to_string(m.cols) + ")");
+    }
+  }
+  // Duplicate / both-triangle detection on keys sorted by (row, col) or, when symmetric, by
+  // (min, max); ties keep file order so the later line is the one reported.
+  std::vector<size_t> order(entries.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  const auto key = [&](size_t k) {
+    const TextEntry& e = entries[k];
+    if (symmetric) return std::make_pair(std::min(e.row, e.col), std::max(e.row, e.col));
+    return std::make_pair(e.row, e.col);
+  };
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
+  for (size_t k = 1; k < order.size(); ++k) {
+    if (key(order[k]) != key(order[k - 1])) continue;
+    const TextEntry& first = entries[order[k - 1]];
+    const TextEntry& second = entries[order[k]];
+    const TextEntry& later = first.line > second.line ? first : second;
+    const TextEntry& earlier = first.line > second.line ? second : first;
+    if (symmetric && first.row != second.row) {
+      Fail(file, later.line,
+           "symmetric matrix has entry " + where(later.row, later.col) +
+               " in both triangles (its transpose is on line " + std::to_string(earlier.line) +
+               "); give each off-diagonal term once, in either triangle");
+    }
+    Fail(file, later.line,
+         "entry " + where(later.row, later.col) + " given twice (also on line " +
+             std::to_string(earlier.line) + ")");
+  }
+  // Compressed column storage built directly (no duplicates are left to sum): O(cols + nnz)
+  // time and memory, whatever the number of rows.
+  struct Item {
+    int row, col;
+    double re, im;
+  };
+  try {
+    std::vector<Item> items;
+    items.reserve(symmetric ? 2 * entries.size() : entries.size());
+    for (const TextEntry& e : entries) {
+      const int r = static_cast<int>(e.row), c = static_cast<int>(e.col);
+      items.push_back({r, c, e.re, e.im});
+      if (symmetric && r != c) items.push_back({c, r, e.re, e.im});
+    }
+    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+      return a.col != b.col ? a.col < b.col : a.row < b.row;
+    });
+    const auto fill = [&](Eigen::SparseMatrix<double>& a, bool imaginary) {
+      a = Eigen::SparseMatrix<double>(static_cast<Eigen::Index>(m.rows),
+                                      static_cast<Eigen::Index>(m.cols));
+      a.resizeNonZeros(static_cast<Eigen::Index>(items.size()));
+      int* outer = a.outerIndexPtr();
+      int* inner = a.innerIndexPtr();
+      double* value = a.valuePtr();
+      for (const Item& it : items) ++outer[it.col + 1];
+      for (int64_t j = 0; j < m.cols; ++j) outer[j + 1] += outer[j];
+      for (size_t k = 0; k < items.size(); ++k) {
+        inner[k] = items[k].row;
+        value[k] = imaginary ? items[k].im : items[k].re;
+      }
+    };
+    fill(m.real, false);
+    if (m.is_complex) {
+      fill(m.imag, true);
+    } else {
+      m.imag = Eigen::SparseMatrix<double>();
+    }
+  } catch (const std::bad_alloc&) {
+    Fail(file, 0,
+         "not enough memory for a " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+             " matrix with " + std::to_string(entries.size()) + " entries");
+  }
+}
+
+// Highest accepted component number in DOF maps (Abaqus numbers degrees of freedom up to 30;
+// Nastran uses 1..6 and 0 for scalar points).
+constexpr int kMaxComponent = 30;
+
+// Fails when a DOF appears twice in a map; `lines` gives the line of each DOF (may be empty).
+void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,
+                     const std::vector<size_t>& lines) {
+  std::vector<size_t> order(dofs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return DofLess(dofs[a], dofs[b]); });
+  for (size_t k = 1; k < order.size(); ++k) {
+    if (dofs[order[k]] == dofs[order[k - 1]]) {
+      const size_t a = std::min(order[k], order[k - 1]), b = std::max(order[k], order[k - 1]);
+      const size_t line_b = lines.empty() ? 0 : lines[b];
+      const std::string other =
+          lines.empty() ? "entry " + std::to_string(a + 1) : "line " + std::to_string(lines[a]);
+      Fail(file, line_b, "DOF " + DescribeDof(dofs[b]) + " listed twice (also on " + other + ")");
+    }
+  }
+}
+
+// DOF-map sidecar: a header line `node,component`, then one `node,component` line per row.
+std::vector<DofId> ReadDofCsv(const std::string& path) {
+  const std::string text = ReadWholeFile(path, "DOF map (node,component CSV)");
+  std::vector<DofId> dofs;
+  std::vector<size_t> lines;
+  size_t pos = 0, number = 0;
+  bool header = false;
+  std::string_view line;
+  while (NextLine(text, pos, line)) {
+    ++number;
+    const std::string_view t = Trim(line);
+    if (t.empty()) continue;
+    const size_t comma = t.find(',');
+    if (!header) {
+      if (comma == std::string_view::npos || Upper(Trim(t.substr(0, comma))) != "NODE" ||
+          Upper(Trim(t.substr(comma + 1))) != "COMPONENT") {
+        Fail(path, number, "expected the header line 'node,component', got " + Printable(t));
+      }
+      header = true;
+      continue;
+    }
+    if (comma == std::string_view::npos) {
+      Fail(path, number, "expected 'node,component', got " + Printable(t));
+    }
+    DofId d;
+    d.node = RequireInt(t.substr(0, comma), path, number, "a node id");
+    const int64_t c = RequireInt(t.substr(comma + 1), path, number, "a component");
+    if (c < 0 || c > kMaxComponent) {
+      Fail(path, number,
+           "expected a component 0.." + std::to_string(kMaxComponent) + ", got " +
+               std::to_string(c));
+    }
+    d.component = static_cast<int>(c);
+    dofs.push_back(d);
+    lines.push_back(number);
+  }
+  if (!header) Fail(path, number, "empty DOF map: expected the header line 'node,component'");
+  CheckUniqueDofs(path, dofs, lines);
+  return dofs;
+}
+
+// Default DOF-map sidecar of a matrix file: same name, extension replaced by ".dof.csv".
+std::string DefaultDofSidecar(const std::string& path) {
+  std::filesystem::path p(path);
+  p.replace_extension(".dof.csv");
+  return p.string();
+}
+
+}  // namespace fe_text
+
+const FeMatrix* FeModel::Find(const std::string& name) const {
+  const std::string wanted = fe_text::Upper(name);
+  for (const FeMatrix& m : matrices) {
+    if (fe_text::Upper(m.name) == wanted) return &m;
+  }
+  return nullptr;
+}
+
+namespace {
+
+std::string LowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// First bytes of a file (up to n), empty when it cannot be read.
+std::string Head(const std::string& path, size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s(n, '\0');
+  in.read(s.data(), static_cast<std::streamsize>(n));
+  s.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return s;
+}
+
+bool StartsWithMatrixMarket(const std::string& path) {
+  const std::string head = Head(path, 14);
+  return fe_text::Upper(head) == "%%MATRIXMARKET";
+}
+
+// True when the Nastran bulk text has a DMIG or EXTRN card (a card name in columns 1-8, small,
+// large or free field).
+bool HasNastranMatrixCards(const std::string& path) {
+  const std::string text = fe_text::ReadWholeFile(path, "Nastran bulk data");
+  size_t pos = 0;
+  std::string_view line;
+  while (fe_text::NextLine(text, pos, line)) {
+    const std::string name = fe_text::Upper(line.substr(0, std::min<size_t>(line.size(), 5)));
+    if (name.rfind("DMIG", 0) == 0) {
+      const char next = name.size() > 4 ? name[4] : ' ';
+      if (next == ' ' || next == '*' || next == ',' || next == '\t') return true;
+    }
+    if (name == "EXTRN") return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+FeModel ReadFe(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".op4") return ReadOp4(path);
+  if (ext == ".pch") return ReadNastranPunch(path);
+  if (ext == ".bdf" || ext == ".dat" || ext == ".nas" || ext == ".blk") {
+    if (!HasNastranMatrixCards(path)) {
+      fe_text::Fail(path, 0,
+                    "no DMIG or EXTRN card: expected Nastran bulk data with DMIG matrices (only "
+                    "DMIG, EXTRN, GRID and CORD2R cards are read from Nastran decks)");
+    }
+    return ReadNastranPunch(path);
+  }
+  if (ext == ".sti" || ext == ".mas" || ext == ".dof") {
+    std::filesystem::path prefix(path);
+    prefix.replace_extension();
+    return ReadCalculix(prefix.string());
+  }
+  if (ext == ".mtx" || ext == ".mm") {
+    if (!std::filesystem::exists(path))
+      fe_text::Fail(path, 0, "cannot open matrix file: no such file");
+    if (StartsWithMatrixMarket(path)) {
+      const std::string sidecar = fe_text::DefaultDofSidecar(path);
+      return ReadMatrixMarket(path, std::filesystem::exists(sidecar) ? sidecar : "");
+    }
+    return ReadAbaqusMatrix(path);
+  }
+  if (std::filesystem::exists(path) && StartsWithMatrixMarket(path)) {
+    return ReadMatrixMarket(path);
+  }
+  fe_text::Fail(path, 0,
+                "unknown FE matrix format (expected .op4, .pch/.bdf/.dat with DMIG, .mtx (Matrix "
+                "Market or Abaqus), or .sti/.mas/.dof (CalculiX))");
+}
+
+}  // namespace fricrom

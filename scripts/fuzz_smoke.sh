@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of the FE readers with clang (ASan + UBSan) and runs each for a
+# short time on its fixtures: the smoke run of CI. Longer runs: FUZZ_SECONDS=600 bash scripts/fuzz_smoke.sh
+# Needs clang and libclang-rt-14-dev (scripts/setup.sh installs them).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_EACH=${FUZZ_SECONDS:-10}
+if ! command -v clang++ > /dev/null; then
+  echo "fuzz_smoke: clang++ not found (Debian packages clang, libclang-rt-14-dev)" >&2
+  exit 2
+fi
+out=build-fuzz
+mkdir -p "$out"
+flags=(-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+       -Iinclude -isystem /usr/include/eigen3)
+declare -A corpus=([op4]=tests/data/op4 [punch]="tests/data/dmig tests/data/extseout"
+                   [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx)
+for t in op4 punch abaqus calculix mtx; do
+  echo "fuzz_smoke: building $t"
+  clang++ "${flags[@]}" tests/fuzz/${t}_fuzz.cpp src/io/*.cpp -o "$out/${t}_fuzz"
+done
+for t in op4 punch abaqus calculix mtx; do
+  work="$out/corpus_$t"
+  mkdir -p "$work"
+  echo "fuzz_smoke: running $t for ${SECONDS_EACH} s"
+  # shellcheck disable=SC2086
+  "$out/${t}_fuzz" -max_total_time="$SECONDS_EACH" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+    -print_final_stats=0 "$work" ${corpus[$t]} > "$out/${t}.log" 2>&1 || {
+      echo "fuzz_smoke: $t found a problem:" >&2
+      tail -40 "$out/${t}.log" >&2
+      exit 1
+    }
+  echo "fuzz_smoke: $t ok ($(grep -c '^#' "$out/${t}.log" || true) status lines)"
+done
+echo "fuzz_smoke: all targets ran without findings"

@@ -1,0 +1,241 @@
+#include "app/fe_commands.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/cli_common.h"
+#include "app/hdf5_writer.h"
+#include "fricrom/fe_model.h"
+
+namespace fricrom::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+bool IsSymmetric(const FeMatrix& m) {
+  if (m.rows != m.cols) return false;
+  const double scale = std::max(m.real.norm(), 1e-300);
+  if ((Eigen::SparseMatrix<double>(m.real.transpose()) - m.real).norm() > 1e-12 * scale) return false;
+  if (m.is_complex && (Eigen::SparseMatrix<double>(m.imag.transpose()) - m.imag).norm() >
+                          1e-12 * std::max(m.imag.norm(), 1e-300)) {
+    return false;
+  }
+  return true;
+}
+
+// Stored entries (complex: positions where the real or the imaginary part is stored).
+int64_t Nonzeros(const FeMatrix& m) {
+  if (!m.is_complex) return m.real.nonZeros();
+  const Eigen::SparseMatrix<double> pattern = m.real.cwiseAbs() + m.imag.cwiseAbs();
+  return pattern.nonZeros();
+}
+
+json MatrixInfo(const FeMatrix& m) {
+  const double fro = std::sqrt(m.real.squaredNorm() + (m.is_complex ? m.imag.squaredNorm() : 0.0));
+  json j = {{"name", m.name},
+            {"rows", m.rows},
+            {"cols", m.cols},
+            {"nnz", Nonzeros(m)},
+            {"symmetric", IsSymmetric(m)},
+            {"declared_symmetric", m.symmetric},
+            {"frobenius", fro},
+            {"type", m.is_complex ? "complex" : "real"},
+            {"source_precision_bits", m.source_precision_bits}};
+  if (!m.row_dofs.empty()) {
+    int grids = 0, spoints = 0;
+    std::vector<int64_t> nodes;
+    for (const DofId& d : m.row_dofs) {
+      (d.component == 0 ? spoints : grids)++;
+      if (nodes.empty() || nodes.back() != d.node) nodes.push_back(d.node);
+    }
+    j["dof_map"] = {{"rows", m.row_dofs.size()},
+                    {"grid_dofs", grids},
+                    {"scalar_points", spoints},
+                    {"first", {m.row_dofs.front().node, m.row_dofs.front().component}},
+                    {"last", {m.row_dofs.back().node, m.row_dofs.back().component}}};
+  } else {
+    j["dof_map"] = nullptr;
+  }
+  return j;
+}
+
+void WriteSparse(Hdf5Writer& h5, const std::string& group, const Eigen::SparseMatrix<double>& a,
+                 const std::string& suffix) {
+  Eigen::SparseMatrix<double> c = a;
+  c.makeCompressed();
+  std::vector<int64_t> indptr(c.outerIndexPtr(), c.outerIndexPtr() + c.outerSize() + 1);
+  std::vector<int64_t> indices(c.innerIndexPtr(), c.innerIndexPtr() + c.nonZeros());
+  std::vector<double> values(c.valuePtr(), c.valuePtr() + c.nonZeros());
+  h5.Int64Vector(group + "/indptr" + suffix, indptr);
+  h5.Int64Vector(group + "/indices" + suffix, indices);
+  h5.Vector(group + "/values" + suffix, values);
+}
+
+}  // namespace
+
+struct FeCommands::State {
+  CLI::App* info = nullptr;
+  CLI::App* convert = nullptr;
+  std::vector<std::string> files;
+  std::string file, matrix, to;
+  bool as_json = false;
+
+  int RunInfo() {
+    json all = json::array();
+    for (const std::string& f : files) {
+      const FeModel m = ReadFe(f);
+      json j = {{"file", f}, {"format", m.format}, {"nodes", m.nodes.size()},
+                {"coordinate_systems", m.systems.size()},
+                {"external_dofs", m.external_dofs.size()}};
+      json mats = json::array();
+      for (const FeMatrix& mat : m.matrices) mats.push_back(MatrixInfo(mat));
+      j["matrices"] = mats;
+      all.push_back(j);
+    }
+    if (as_json) {
+      std::cout << (all.size() == 1 ? all[0] : all).dump() << "\n";
+      return 0;
+    }
+    for (const json& j : all) {
+      std::cout << j["file"].get<std::string>() << " (" << j["format"].get<std::string>() << "): "
+                << j["nodes"] << " nodes, " << j["coordinate_systems"] << " coordinate systems"
+                << (j["external_dofs"].get<size_t>() > 0
+                        ? ", superelement DOF order (EXTRN) of " + j["external_dofs"].dump() + " DOFs"
+                        : "")
+                << "\n";
+      for (const json& m : j["matrices"]) {
+        std::cout << "  " << m["name"].get<std::string>() << ": " << m["rows"] << " x " << m["cols"]
+                  << ", nnz " << m["nnz"] << ", " << m["type"].get<std::string>()
+                  << (m["symmetric"].get<bool>() ? ", symmetric" : "") << ", |A|_F "
+                  << m["frobenius"] << (m["dof_map"].is_null() ? ", no DOF map" : ", DOF map") << "\n";
+      }
+    }
+    return 0;
+  }
+
+  int RunConvert() {
+    const FeModel m = ReadFe(file);
+    std::vector<const FeMatrix*> chosen;
+    for (const FeMatrix& mat : m.matrices) {
+      if (matrix.empty() || m.Find(matrix) == &mat) chosen.push_back(&mat);
+    }
+    if (chosen.empty()) {
+      std::string names;
+      for (const FeMatrix& mat : m.matrices) names += (names.empty() ? "" : ", ") + mat.name;
+      throw CLI::ValidationError("--matrix", "no matrix '" + matrix + "' in " + file +
+                                                 " (it holds: " + names + ")");
+    }
+    const fs::path out(to);
+    if (out.extension() == ".mtx") {
+      if (chosen.size() != 1) {
+        throw CLI::ValidationError("--matrix", file + " holds " + std::to_string(chosen.size()) +
+                                                   " matrices; choose one for a .mtx output");
+      }
+      if (chosen[0]->is_complex) {
+        throw CLI::ValidationError("--to", "matrix '" + chosen[0]->name +
+                                               "' is complex; Matrix Market output is real only "
+                                               "(use .h5)");
+      }
+      // The sidecar that ReadFe picks up: K.mtx <-> K.dof.csv.
+      const std::string dofs =
+          chosen[0]->row_dofs.empty() ? "" : fs::path(out).replace_extension(".dof.csv").string();
+      WriteMatrixMarket(*chosen[0], out.string(), dofs);
+      if (!as_json) {
+        std::cout << "wrote " << out.string() << (dofs.empty() ? "" : " and " + dofs) << "\n";
+      }
+    } else if (out.extension() == ".h5") {
+      Hdf5Writer h5(out);
+      h5.Attribute("", "fricrom_version", Version());
+      h5.Attribute("", "schema", "fricrom-fe-model-1");
+      h5.Attribute("", "source", m.source);
+      h5.Attribute("", "format", m.format);
+      h5.Attribute("", "layout", "matrices/<name>: CSC (indptr, indices, values[, *_imag]); "
+                                 "dofs: node, component (0 = scalar point)");
+      for (const FeMatrix* mat : chosen) {
+        const std::string g = "matrices/" + mat->name;
+        WriteSparse(h5, g, mat->real, "");
+        if (mat->is_complex) WriteSparse(h5, g, mat->imag, "_imag");
+        std::vector<int64_t> nodes, comps;
+        for (const DofId& d : mat->row_dofs) {
+          nodes.push_back(d.node);
+          comps.push_back(d.component);
+        }
+        if (!nodes.empty()) {
+          h5.Int64Vector(g + "/dof_node", nodes);
+          h5.Int64Vector(g + "/dof_component", comps);
+        }
+        h5.Attribute(g, "rows", static_cast<double>(mat->rows));
+        h5.Attribute(g, "cols", static_cast<double>(mat->cols));
+        h5.Attribute(g, "declared_symmetric", mat->symmetric ? 1.0 : 0.0);
+      }
+      if (!m.nodes.empty()) {
+        std::vector<int64_t> ids;
+        std::vector<int> cp, cd;
+        Eigen::MatrixXd xyz(m.nodes.size(), 3);
+        for (size_t i = 0; i < m.nodes.size(); ++i) {
+          ids.push_back(m.nodes[i].id);
+          cp.push_back(m.nodes[i].position_system);
+          cd.push_back(m.nodes[i].displacement_system);
+          xyz.row(i) = m.nodes[i].xyz.transpose();
+        }
+        h5.Int64Vector("nodes/id", ids);
+        h5.Matrix("nodes/xyz", xyz);
+        h5.IntVector("nodes/position_system", cp);
+        h5.IntVector("nodes/displacement_system", cd);
+      }
+      if (!m.external_dofs.empty()) {
+        std::vector<int64_t> nodes, comps;
+        for (const DofId& d : m.external_dofs) {
+          nodes.push_back(d.node);
+          comps.push_back(d.component);
+        }
+        h5.Int64Vector("external_dofs/node", nodes);
+        h5.Int64Vector("external_dofs/component", comps);
+      }
+      for (const CoordinateSystem& cs : m.systems) {
+        const std::string g = "systems/" + std::to_string(cs.id);
+        h5.Vector(g + "/a", Eigen::VectorXd(cs.a));
+        h5.Vector(g + "/b", Eigen::VectorXd(cs.b));
+        h5.Vector(g + "/c", Eigen::VectorXd(cs.c));
+        h5.Attribute(g, "reference", static_cast<double>(cs.reference));
+      }
+      h5.Commit();
+      if (!as_json) std::cout << "wrote " << out.string() << "\n";
+    } else {
+      throw CLI::ValidationError("--to", "expected a .mtx or .h5 output, got '" + to + "'");
+    }
+    if (as_json) {
+      json mats = json::array();
+      for (const FeMatrix* mat : chosen) mats.push_back(MatrixInfo(*mat));
+      std::cout << json({{"file", file}, {"to", to}, {"matrices", mats}}).dump() << "\n";
+    }
+    return 0;
+  }
+};
+
+FeCommands::FeCommands() : state_(std::make_unique<State>()) {}
+FeCommands::~FeCommands() = default;
+
+void FeCommands::Register(CLI::App& app) {
+  State& s = *state_;
+  s.info = app.add_subcommand("info", "List the matrices (and DOF maps) in FE export files");
+  s.info->add_option("files", s.files, "FE files (.op4, .pch, .mtx, .sti/.mas/.dof)")->required();
+  s.info->add_flag("--json", s.as_json, "Print JSON on stdout");
+  s.convert = app.add_subcommand("convert", "Convert an FE export to Matrix Market or HDF5");
+  s.convert->add_option("file", s.file, "FE file")->required();
+  s.convert->add_option("--matrix", s.matrix, "Matrix name (default: all; one for .mtx)");
+  s.convert->add_option("--to", s.to, "Output: OUT.mtx (+ OUT.dof.csv DOF map) or OUT.h5")->required();
+  s.convert->add_flag("--json", s.as_json, "Print JSON on stdout");
+}
+
+int FeCommands::Run() {
+  State& s = *state_;
+  if (*s.info) return s.RunInfo();
+  if (*s.convert) return s.RunConvert();
+  return -1;
+}
+
+}  // namespace fricrom::app
