@@ -205,7 +205,7 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
   if (a.plot) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) +
                             "/scripts/plot_frf.py' '" + h5_path.string() + "' '" + png_path.string() +
-                            "'" + (a.normalise ? " --normalise" : "");
+                            "'" + (a.normalise ? " --normalise" : "") + " 1>&2";  // stdout is for --json
     plotted = std::system(cmd.c_str()) == 0;
     if (!plotted) std::cerr << "frf: figure not written (see the message above)\n";
   }

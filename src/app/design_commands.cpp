@@ -133,6 +133,7 @@ BoundsOptions WarmSeeds(const BoundsOptions& base, int nc, const BoundsResult* p
 void Plot(const std::string& script, const std::vector<std::string>& args) {
   std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) + "/scripts/" + script + "'";
   for (const std::string& a : args) cmd += " '" + a + "'";
+  cmd += " 1>&2";  // stdout is reserved for --json
   if (std::system(cmd.c_str()) != 0) std::cerr << "fricrom: figure not written by " << script << "\n";
 }
 
