@@ -122,13 +122,20 @@ struct FeCommands::State {
     for (const FeMatrix& mat : m.matrices) {
       if (matrix.empty() || m.Find(matrix) == &mat) chosen.push_back(&mat);
     }
-    if (chosen.empty()) {
+    const fs::path out(to);
+    // A file with no matrices (an EXTSEOUT punch whose matrices went to .op4) still carries nodes,
+    // coordinate systems and the superelement DOF order: HDF5 takes it, Matrix Market cannot.
+    const bool model_only = chosen.empty() && matrix.empty() && out.extension() == ".h5";
+    if (m.matrices.empty() && !model_only) {
+      throw CLI::ValidationError("--to", file + " holds no matrices (only nodes, coordinate "
+                                        "systems or a DOF order); convert it to .h5");
+    }
+    if (chosen.empty() && !model_only) {
       std::string names;
       for (const FeMatrix& mat : m.matrices) names += (names.empty() ? "" : ", ") + mat.name;
       throw CLI::ValidationError("--matrix", "no matrix '" + matrix + "' in " + file +
                                                  " (it holds: " + names + ")");
     }
-    const fs::path out(to);
     if (out.extension() == ".mtx") {
       if (chosen.size() != 1) {
         throw CLI::ValidationError("--matrix", file + " holds " + std::to_string(chosen.size()) +

@@ -287,4 +287,55 @@ TEST(Cli, SweepOfAnUnknownParameterIsAnError) {
   EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
 }
 
+// Issue 4: info and convert work on every real FE sample, and .mtx conversion keeps every digit.
+TEST(Cli, InfoAndConvertWorkOnEveryFeSample) {
+  const fs::path shared = fs::path(FRICROM_SOURCE_DIR) / ".." / "shared" / "fe-samples";
+  std::vector<fs::path> files;
+  if (fs::exists(shared)) {
+    for (const auto& e : fs::recursive_directory_iterator(shared)) {
+      const std::string ext = e.path().extension().string();
+      if (ext == ".op4" || ext == ".pch" || ext == ".mtx") files.push_back(e.path());
+    }
+  }
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(FRICROM_SOURCE_DIR) / "tests" / "data")) {
+    const std::string name = e.path().filename().string();
+    if (name == "dmig.pch" || name == "inboard.op4" || name == "model_STIF1.mtx") files.push_back(e.path());
+  }
+  ASSERT_GE(files.size(), 3u);
+  TempDir tmp;
+  for (const fs::path& f : files) {
+    const CliRun info = Stdout("info " + Quote(f.string()) + " --json");
+    ASSERT_EQ(info.exit_code, 0) << f << "\n" << info.output;
+    const auto j = nlohmann::json::parse(info.output);
+    for (const auto& m : j.at("matrices")) {
+      EXPECT_GE(m.at("rows").get<int64_t>(), 0) << f;
+      if (m.at("type") != "real") continue;
+      const fs::path out = tmp.path() / (f.stem().string() + "_" + m.at("name").get<std::string>() + ".mtx");
+      const CliRun conv = Stdout("convert " + Quote(f.string()) + " --matrix " +
+                                 m.at("name").get<std::string>() + " --to " + Quote(out.string()) + " --json");
+      ASSERT_EQ(conv.exit_code, 0) << f << " " << m.at("name") << "\n" << conv.output;
+      const CliRun back = Stdout("info " + Quote(out.string()) + " --json");
+      ASSERT_EQ(back.exit_code, 0) << out << "\n" << back.output;
+      const auto jb = nlohmann::json::parse(back.output).at("matrices").at(0);
+      EXPECT_EQ(jb.at("rows"), m.at("rows")) << out;
+      EXPECT_EQ(jb.at("nnz"), m.at("nnz")) << out;
+      // %.17g round-trips doubles exactly, so the norms agree to the last bit of the sum order.
+      EXPECT_NEAR(jb.at("frobenius").get<double>(), m.at("frobenius").get<double>(),
+                  1e-14 * m.at("frobenius").get<double>() + 1e-300) << out;
+    }
+    const CliRun h5 = Stdout("convert " + Quote(f.string()) + " --to " +
+                             Quote((tmp.path() / (f.stem().string() + ".h5")).string()));
+    EXPECT_EQ(h5.exit_code, 0) << f << "\n" << h5.output;
+  }
+}
+
+TEST(Cli, InfoOnABadFileNamesIt) {
+  TempDir tmp;
+  const fs::path bad = tmp.path() / "broken.op4";
+  std::ofstream(bad) << "this is not an OUTPUT4 file\n";
+  const CliRun r = Stderr("info " + Quote(bad.string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("broken.op4"), std::string::npos) << r.output;
+}
+
 }  // namespace
