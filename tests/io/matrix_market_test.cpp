@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fricrom/fe_model.h"
+#include "io/io_test_util.h"
 
 namespace {
 
@@ -27,28 +28,7 @@ using fricrom::FeReadError;
 
 const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/mtx/";
 
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "fricrom-mtx-test-XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& text) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  std::string Path(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using TempDir = fricrom::testing::ScratchDir;
 
 template <typename F>
 void ExpectError(F read, const std::string& file, int line, const std::string& what) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fricrom/fe_model.h"
+#include "io/io_test_util.h"
 
 namespace {
 
@@ -28,27 +29,7 @@ using fricrom::FeReadError;
 
 const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/";
 
-// A fresh directory under /tmp, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "fricrom-punch-test-XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string Write(const std::string& name, const std::string& text) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
+using TempDir = fricrom::testing::ScratchDir;
 
 int64_t IndexOf(const std::vector<DofId>& dofs, int64_t node, int component) {
   for (size_t i = 0; i < dofs.size(); ++i) {
