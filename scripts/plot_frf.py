@@ -48,70 +48,16 @@ if _MISSING:
 
 import argparse
 import os
-import tempfile
 
-SUPPORTED_EXTENSIONS = (".png", ".svg")
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import fricrom_plot_common as common  # noqa: E402
+from fricrom_plot_common import InputError, SUPPORTED_EXTENSIONS  # noqa: E402,F401
 
-
-class InputError(Exception):
-    """A problem with the input file or arguments (exit status 2)."""
-
-
-def _to_str(value):
-    """Decodes an HDF5 string (bytes, numpy bytes/str, 0-d/1-element array) to str."""
-    if isinstance(value, np.ndarray):
-        if value.size != 1:
-            raise InputError(f"expected a scalar string, got an array of shape {value.shape}")
-        value = value.reshape(()).item()
-    if isinstance(value, (bytes, np.bytes_)):
-        return bytes(value).decode("utf-8", errors="replace")
-    return str(value)
-
-
-def _attr(obj, name, default=None):
-    if name not in obj.attrs:
-        return default
-    return _to_str(obj.attrs[name])
-
-
-def _dataset(h5, path):
-    """Returns the object at `path` as a 1-D float64 array; InputError if missing/wrong."""
-    if path not in h5:
-        raise InputError(f"{h5.filename}: dataset '/{path}' is missing")
-    obj = h5[path]
-    if not isinstance(obj, h5py.Dataset):
-        raise InputError(f"{h5.filename}: '/{path}' is not a dataset")
-    try:
-        data = np.asarray(obj[()], dtype=np.float64)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"{h5.filename}: dataset '/{path}' is not numeric ({e})") from e
-    if data.ndim != 1:
-        raise InputError(f"{h5.filename}: dataset '/{path}' must be 1-D, has shape {data.shape}")
-    return data
-
-
-def _strings(h5, path):
-    if path not in h5:
-        raise InputError(f"{h5.filename}: dataset '/{path}' is missing")
-    obj = h5[path]
-    if not isinstance(obj, h5py.Dataset):
-        raise InputError(f"{h5.filename}: '/{path}' is not a dataset")
-    raw = obj[()]
-    if np.ndim(raw) == 0:
-        raw = [raw]
-    elif np.ndim(raw) != 1:
-        raise InputError(f"{h5.filename}: dataset '/{path}' must be 1-D, has shape {np.shape(raw)}")
-    return [_to_str(s).strip() for s in raw]
-
-
-def _same_length(h5, group, names, arrays):
-    n = len(arrays[0])
-    for name, a in zip(names[1:], arrays[1:]):
-        if len(a) != n:
-            raise InputError(
-                f"{h5.filename}: '/{group}/{name}' has {len(a)} entries, "
-                f"'/{group}/{names[0]}' has {n}"
-            )
+_to_str = common.to_str
+_attr = common.attr_str
+_dataset = common.dataset
+_strings = common.strings
+_same_length = common.same_length
 
 
 def _frf_sort_key(name):
@@ -221,23 +167,7 @@ def make_figure(res, normalise):
 
 
 def save_atomically(fig, out):
-    ext = os.path.splitext(out)[1].lower()
-    directory = os.path.dirname(os.path.abspath(out))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(out) + ".", suffix=ext, dir=directory)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=150, format=ext[1:])
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, out)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    common.save_figure(fig, out)
 
 
 def main(argv=None):
