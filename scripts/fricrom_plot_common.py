@@ -4,20 +4,39 @@ plot_sweep.py). Same conventions as scripts/plot_frf.py:
     input file raises InputError, which the scripts turn into a one-line message and exit status 2;
   * figures are written atomically (temporary file in the output directory + os.replace), dpi 150.
 
-Import this module only after numpy, matplotlib (Agg) and h5py have been imported successfully
-(each script checks them itself and names the missing Debian package).
+Importing this module checks numpy, matplotlib (Agg) and h5py and exits with status 2 naming the
+missing Debian package, so the scripts import it before anything else.
 """
 
 import os
 import sys
 import tempfile
 
-import numpy as np
-import matplotlib
+# Debian's packages, for /usr/bin/python3; a missing one stops the calling script with exit 2.
+_MISSING = []
+try:
+    import numpy as np
+except ImportError:
+    _MISSING.append(("numpy", "python3-numpy"))
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import h5py  # noqa: E402
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: F401
+except ImportError:
+    _MISSING.append(("matplotlib", "python3-matplotlib"))
+try:
+    import h5py
+except ImportError:
+    _MISSING.append(("h5py", "python3-h5py"))
+if _MISSING:
+    for _module, _package in _MISSING:
+        sys.stderr.write(
+            f"{os.path.basename(sys.argv[0])}: error: Python module '{_module}' is not available; "
+            f"install the Debian package {_package} (apt-get install {_package}) "
+            f"and run with /usr/bin/python3\n"
+        )
+    sys.exit(2)
 
 SUPPORTED_EXTENSIONS = (".png", ".svg")
 DPI = 150

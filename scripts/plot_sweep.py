@@ -26,38 +26,15 @@ are needed.
 
 import sys
 
-_MISSING = []
-try:
-    import numpy as np
-except ImportError:
-    _MISSING.append(("numpy", "python3-numpy"))
-try:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:
-    _MISSING.append(("matplotlib", "python3-matplotlib"))
-try:
-    import h5py  # noqa: F401  (used through fricrom_plot_common)
-except ImportError:
-    _MISSING.append(("h5py", "python3-h5py"))
-if _MISSING:
-    for module, package in _MISSING:
-        sys.stderr.write(
-            f"plot_sweep.py: error: Python module '{module}' is not available; "
-            f"install the Debian package {package} (apt-get install {package}) "
-            f"and run with /usr/bin/python3\n"
-        )
-    sys.exit(2)
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+import fricrom_plot_common as common  # noqa: E402  (checks numpy, matplotlib, h5py first)
+from fricrom_plot_common import np, plt, h5py  # noqa: E402,F401
 
 import argparse
 import json
 import math
 import os
 
-sys.dont_write_bytecode = True  # no __pycache__ in the source tree
-import fricrom_plot_common as common  # noqa: E402
 from fricrom_plot_common import InputError
 
 SCRIPT = "plot_sweep.py"
