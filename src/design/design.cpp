@@ -262,6 +262,32 @@ NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
       p_best = p[k];
       g_best = g[k];
     }
+    // A unique response (objective 0) found inside a plateau narrower than the scan step:
+    // bisect for both edges of the plateau and return its middle, the design with most margin.
+    if (g_best <= tie) {
+      auto edge = [&](double inside, double outside) {
+        while (std::abs(outside - inside) > options.parameter_tolerance) {
+          const double mid = 0.5 * (inside + outside);
+          (evaluate(mid) <= tie ? inside : outside) = mid;
+        }
+        return inside;
+      };
+      double left = options.lower, right = options.upper;
+      for (const RobustnessPoint& h : res.history) {  // nearest evaluated points off the plateau
+        if (objective_of(h) > tie && h.parameter < p_best) left = std::max(left, h.parameter);
+        if (objective_of(h) > tie && h.parameter > p_best) right = std::min(right, h.parameter);
+      }
+      const double lo = left < p_best ? edge(p_best, left) : p_best;
+      const double hi = right > p_best ? edge(p_best, right) : p_best;
+      const double mid = 0.5 * (lo + hi);
+      const double g_mid = evaluate(mid);
+      if (g_mid <= tie) {
+        p_best = mid;
+        g_best = g_mid;
+        res.message = "plateau of the objective between " + std::to_string(lo) + " and " +
+                      std::to_string(hi) + "; its middle is returned";
+      }
+    }
   }
   // Report the evaluation at p_best.
   for (const RobustnessPoint& h : res.history) {
