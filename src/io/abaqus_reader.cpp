@@ -5,9 +5,14 @@
 //    in the sidecar `<name>.dof.csv` (node,component).
 // Format notes and the rules chosen here: docs/formats-abaqus-calculix-mtx.md.
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <numeric>
 #include <string_view>
+#include <system_error>
 
 #include "fricrom/fe_model.h"
 
@@ -47,11 +52,76 @@ namespace {
 
 using fe_text::Fail;
 
-struct NodeDofLine {
-  DofId row, col;
-  double value = 0;
-  size_t line = 0;
+// Dense ids for the (node, dof) pairs of a node-DOF file, in order of first appearance (an
+// open-addressing hash table: one probe per lookup instead of sorting every pair read).
+class DofIds {
+ public:
+  int64_t Id(const DofId& d) {
+    if (2 * (dofs_.size() + 1) > slots_.size()) Grow();
+    size_t i = Hash(d) & mask_;
+    while (slots_[i] != 0) {
+      if (dofs_[slots_[i] - 1] == d) return static_cast<int64_t>(slots_[i] - 1);
+      i = (i + 1) & mask_;
+    }
+    dofs_.push_back(d);
+    slots_[i] = dofs_.size();
+    return static_cast<int64_t>(dofs_.size() - 1);
+  }
+  const std::vector<DofId>& dofs() const { return dofs_; }
+
+ private:
+  static size_t Hash(const DofId& d) {
+    uint64_t h = static_cast<uint64_t>(d.node) * 0x9E3779B97F4A7C15ull +
+                 static_cast<uint64_t>(static_cast<uint32_t>(d.component));
+    h ^= h >> 32;
+    h *= 0xD6E8FEB86659FD93ull;
+    h ^= h >> 32;
+    return static_cast<size_t>(h);
+  }
+  void Grow() {
+    const size_t size = std::max<size_t>(1024, 2 * slots_.size());
+    slots_.assign(size, 0);
+    mask_ = size - 1;
+    for (size_t k = 0; k < dofs_.size(); ++k) {
+      size_t i = Hash(dofs_[k]) & mask_;
+      while (slots_[i] != 0) i = (i + 1) & mask_;
+      slots_[i] = k + 1;
+    }
+  }
+
+  std::vector<DofId> dofs_;
+  std::vector<size_t> slots_;  // 0: empty, else 1 + index into dofs_
+  size_t mask_ = 0;
 };
+
+bool IsSeparator(char c) { return c == ' ' || c == '\t' || c == ','; }
+
+// Fast path for a well-formed data line (`t` trimmed): exactly N integers and then one real,
+// separated by blanks, tabs and/or commas, each as std::from_chars reads it whole (no leading
+// '+', no 'D' exponent, finite). False for anything else; the checked path then reads the line
+// and reports the error, so a line accepted here gives the same values the checked path would.
+template <size_t N>
+bool FastFields(std::string_view t, int64_t (&ints)[N], double& value) {
+  const char* p = t.data();
+  const char* const end = p + t.size();
+  for (size_t i = 0; i < N; ++i) {
+    while (p < end && IsSeparator(*p)) ++p;
+    const auto [q, ec] = std::from_chars(p, end, ints[i]);
+    if (ec != std::errc() || (q < end && !IsSeparator(*q))) return false;
+    p = q;
+  }
+  while (p < end && IsSeparator(*p)) ++p;
+  const auto [q, ec] = std::from_chars(p, end, value, std::chars_format::general);
+  if (ec != std::errc() || !std::isfinite(value)) return false;
+  for (p = q; p < end; ++p) {
+    if (!IsSeparator(*p)) return false;
+  }
+  return true;
+}
+
+bool ValidDof(int64_t node, int64_t dof) {
+  return node != 0 && dof >= 1 && dof <= fe_text::kMaxComponent;
+}
 
 DofId ReadDof(std::string_view node, std::string_view dof, const std::string& path, size_t line,
               const char* which) {
@@ -85,8 +155,8 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
   std::vector<std::string_view> tokens;
   size_t pos = 0, number = 0, columns = 0, first_line = 0;
   std::string_view line;
-  std::vector<NodeDofLine> node_lines;
-  std::vector<fe_text::TextEntry> entries;
+  std::vector<fe_text::TextEntry> entries;  // node-DOF form: row, col are ids from `dof_ids`
+  DofIds dof_ids;
   int64_t max_index = 0;
   while (fe_text::NextLine(text, pos, line)) {
     ++number;
@@ -97,6 +167,28 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
            "unexpected keyword line " + fe_text::Printable(t) +
                " (expected matrix entries; comments start with **)");
     }
+    fe_text::TextEntry e;
+    e.line = number;
+    if (columns == 5) {
+      int64_t v[4];
+      if (FastFields(t, v, e.re) && ValidDof(v[0], v[1]) && ValidDof(v[2], v[3])) {
+        e.row = dof_ids.Id(DofId{v[0], static_cast<int>(v[1])});
+        e.col = dof_ids.Id(DofId{v[2], static_cast<int>(v[3])});
+        entries.push_back(e);
+        continue;
+      }
+    } else if (columns == 3) {
+      int64_t v[2];
+      if (FastFields(t, v, e.re) && v[0] >= 1 && v[0] <= fe_text::kMaxDimension && v[1] >= 1 &&
+          v[1] <= fe_text::kMaxDimension) {
+        e.row = v[0] - 1;
+        e.col = v[1] - 1;
+        max_index = std::max({max_index, v[0], v[1]});
+        entries.push_back(e);
+        continue;
+      }
+    }
+    // Checked path: the first entry line, and any line the fast path does not take.
     fe_text::SplitTokens(t, tokens);
     if (columns == 0) {
       if (tokens.size() != 5 && tokens.size() != 3) {
@@ -114,14 +206,13 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
                (tokens.size() < columns ? " (truncated line?)" : ""));
     }
     if (columns == 5) {
-      NodeDofLine e;
-      e.row = ReadDof(tokens[0], tokens[1], path, number, "row");
-      e.col = ReadDof(tokens[2], tokens[3], path, number, "column");
-      e.value = fe_text::RequireReal(tokens[4], false, path, number, "the matrix value");
-      e.line = number;
-      node_lines.push_back(e);
+      const DofId row = ReadDof(tokens[0], tokens[1], path, number, "row");
+      const DofId col = ReadDof(tokens[2], tokens[3], path, number, "column");
+      e.re = fe_text::RequireReal(tokens[4], false, path, number, "the matrix value");
+      e.row = dof_ids.Id(row);
+      e.col = dof_ids.Id(col);
+      entries.push_back(e);
     } else {
-      fe_text::TextEntry e;
       e.row = fe_text::RequireInt(tokens[0], path, number, "a row number") - 1;
       e.col = fe_text::RequireInt(tokens[1], path, number, "a column number") - 1;
       if (e.row < 0 || e.col < 0 || e.row >= fe_text::kMaxDimension ||
@@ -132,7 +223,6 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
                  std::to_string(fe_text::kMaxDimension) + ")");
       }
       e.re = fe_text::RequireReal(tokens[2], false, path, number, "the matrix value");
-      e.line = number;
       max_index = std::max({max_index, e.row + 1, e.col + 1});
       entries.push_back(e);
     }
@@ -141,26 +231,20 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
 
   if (columns == 5) {
     // DOF map: every (node, dof) that appears, sorted by signed node label then dof.
-    std::vector<DofId> dofs;
-    dofs.reserve(2 * node_lines.size());
-    for (const NodeDofLine& e : node_lines) {
-      dofs.push_back(e.row);
-      dofs.push_back(e.col);
+    const std::vector<DofId>& seen = dof_ids.dofs();
+    std::vector<size_t> by_dof(seen.size());
+    std::iota(by_dof.begin(), by_dof.end(), size_t{0});
+    std::sort(by_dof.begin(), by_dof.end(),
+              [&](size_t a, size_t b) { return fe_text::DofLess(seen[a], seen[b]); });
+    std::vector<DofId> dofs(seen.size());
+    std::vector<int64_t> rank(seen.size());
+    for (size_t k = 0; k < by_dof.size(); ++k) {
+      dofs[k] = seen[by_dof[k]];
+      rank[by_dof[k]] = static_cast<int64_t>(k);
     }
-    std::sort(dofs.begin(), dofs.end(), fe_text::DofLess);
-    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
-    const auto index = [&](const DofId& d) {
-      return static_cast<int64_t>(std::lower_bound(dofs.begin(), dofs.end(), d, fe_text::DofLess) -
-                                  dofs.begin());
-    };
-    entries.reserve(node_lines.size());
-    for (const NodeDofLine& e : node_lines) {
-      fe_text::TextEntry t;
-      t.row = index(e.row);
-      t.col = index(e.col);
-      t.re = e.value;
-      t.line = e.line;
-      entries.push_back(t);
+    for (fe_text::TextEntry& e : entries) {
+      e.row = rank[static_cast<size_t>(e.row)];
+      e.col = rank[static_cast<size_t>(e.col)];
     }
     m.rows = m.cols = static_cast<int64_t>(dofs.size());
     m.row_dofs = m.col_dofs = dofs;

@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,7 +19,6 @@
 #include <limits>
 #include <new>
 #include <numeric>
-#include <sstream>
 #include <string_view>
 #include <system_error>
 
@@ -64,10 +64,26 @@ std::string ReadWholeFile(const std::string& path, const std::string& what) {
     Fail(path, 0, "expected " + what + ", got a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) Fail(path, 0, "cannot open " + what);
-  std::ostringstream s;
-  s << in.rdbuf();
+  // One read of the whole (regular) file into a buffer of its size, then whatever is left (a file
+  // that grew meanwhile, or one whose size the file system does not know, e.g. a pipe).
+  std::string text;
+  std::error_code size_ec;
+  const std::uintmax_t size =
+      std::filesystem::is_regular_file(status) ? std::filesystem::file_size(path, size_ec) : 0;
+  if (!size_ec && size > 0 && size < static_cast<std::uintmax_t>(text.max_size())) {
+    text.resize(static_cast<size_t>(size));
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    text.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  }
+  if (!in.bad() && !in.eof()) {
+    char chunk[1 << 16];
+    while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) {
+      text.append(chunk, static_cast<size_t>(in.gcount()));
+      if (in.eof()) break;
+    }
+  }
   if (in.bad()) Fail(path, 0, "error while reading " + what);
-  return std::move(s).str();
+  return text;
 }
 
 // Next line of `text` from `pos` (without the line break and a trailing '\r'); false at the end.
@@ -228,6 +244,13 @@ struct TextEntry {
 
 // True when some off-diagonal entry (i, j) also appears as (j, i).
 bool HasTransposePair(const std::vector<TextEntry>& entries) {
+  // Common case first: every off-diagonal entry in the same strict triangle (O(n), no sort).
+  bool lower = false, upper = false;
+  for (const TextEntry& e : entries) {
+    lower = lower || e.row > e.col;
+    upper = upper || e.row < e.col;
+  }
+  if (!lower || !upper) return false;
   std::vector<std::pair<int64_t, int64_t>> keys;
   keys.reserve(entries.size());
   for (const TextEntry& e : entries) {
@@ -272,65 +295,96 @@ void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entr
     }
   }
   // Duplicate / both-triangle detection on keys sorted by (row, col) or, when symmetric, by
-  // (min, max); ties keep file order so the later line is the one reported.
-  std::vector<size_t> order(entries.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  const auto key = [&](size_t k) {
+  // (min, max); ties keep file order so the later line is the one reported. The sort is skipped
+  // when the file is already in key order, and is otherwise a stable two-pass counting sort (O(n +
+  // dimension)) unless the dimension is large compared with the entry count.
+  const auto primary = [&](uint32_t k) {
     const TextEntry& e = entries[k];
-    if (symmetric) return std::make_pair(std::min(e.row, e.col), std::max(e.row, e.col));
-    return std::make_pair(e.row, e.col);
+    return symmetric ? std::min(e.row, e.col) : e.row;
   };
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
-  for (size_t k = 1; k < order.size(); ++k) {
-    if (key(order[k]) != key(order[k - 1])) continue;
-    const TextEntry& first = entries[order[k - 1]];
-    const TextEntry& second = entries[order[k]];
-    const TextEntry& later = first.line > second.line ? first : second;
-    const TextEntry& earlier = first.line > second.line ? second : first;
-    if (symmetric && first.row != second.row) {
-      Fail(file, later.line,
-           "symmetric matrix has entry " + where(later.row, later.col) +
-               " in both triangles (its transpose is on line " + std::to_string(earlier.line) +
-               "); give each off-diagonal term once, in either triangle");
-    }
-    Fail(file, later.line,
-         "entry " + where(later.row, later.col) + " given twice (also on line " +
-             std::to_string(earlier.line) + ")");
-  }
-  // Compressed column storage built directly (no duplicates are left to sum): O(cols + nnz)
-  // time and memory, whatever the number of rows.
-  struct Item {
-    int row, col;
-    double re, im;
+  const auto secondary = [&](uint32_t k) {
+    const TextEntry& e = entries[k];
+    return symmetric ? std::max(e.row, e.col) : e.col;
   };
+  const auto key = [&](uint32_t k) { return std::make_pair(primary(k), secondary(k)); };
+  const size_t n = entries.size();
   try {
-    std::vector<Item> items;
-    items.reserve(symmetric ? 2 * entries.size() : entries.size());
-    for (const TextEntry& e : entries) {
-      const int r = static_cast<int>(e.row), c = static_cast<int>(e.col);
-      items.push_back({r, c, e.re, e.im});
-      if (symmetric && r != c) items.push_back({c, r, e.re, e.im});
+    std::vector<uint32_t> order(n);
+    std::iota(order.begin(), order.end(), uint32_t{0});
+    bool in_order = true;
+    for (size_t k = 1; k < n && in_order; ++k) {
+      in_order = !(key(static_cast<uint32_t>(k)) < key(static_cast<uint32_t>(k - 1)));
     }
-    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
-      return a.col != b.col ? a.col < b.col : a.row < b.row;
-    });
-    const auto fill = [&](Eigen::SparseMatrix<double>& a, bool imaginary) {
-      a = Eigen::SparseMatrix<double>(static_cast<Eigen::Index>(m.rows),
-                                      static_cast<Eigen::Index>(m.cols));
-      a.resizeNonZeros(static_cast<Eigen::Index>(items.size()));
-      int* outer = a.outerIndexPtr();
-      int* inner = a.innerIndexPtr();
-      double* value = a.valuePtr();
-      for (const Item& it : items) ++outer[it.col + 1];
-      for (int64_t j = 0; j < m.cols; ++j) outer[j + 1] += outer[j];
-      for (size_t k = 0; k < items.size(); ++k) {
-        inner[k] = items[k].row;
-        value[k] = imaginary ? items[k].im : items[k].re;
+    if (!in_order) {
+      const size_t secondary_range = static_cast<size_t>(symmetric ? m.rows : m.cols);
+      const size_t primary_range = static_cast<size_t>(m.rows);
+      if (std::max(primary_range, secondary_range) <= 2 * n + 4096) {
+        std::vector<uint32_t> count, by_secondary(n);
+        const auto counting_sort = [&](const std::vector<uint32_t>& in, std::vector<uint32_t>& out,
+                                       size_t range, const auto& bucket) {
+          count.assign(range + 1, 0);
+          for (const uint32_t k : in) ++count[static_cast<size_t>(bucket(k)) + 1];
+          for (size_t i = 0; i < range; ++i) count[i + 1] += count[i];
+          for (const uint32_t k : in) out[count[static_cast<size_t>(bucket(k))]++] = k;
+        };
+        counting_sort(order, by_secondary, secondary_range, secondary);
+        counting_sort(by_secondary, order, primary_range, primary);
+      } else {
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
       }
+    }
+    for (size_t k = 1; k < n; ++k) {
+      if (key(order[k]) != key(order[k - 1])) continue;
+      const TextEntry& first = entries[order[k - 1]];
+      const TextEntry& second = entries[order[k]];
+      const TextEntry& later = first.line > second.line ? first : second;
+      const TextEntry& earlier = first.line > second.line ? second : first;
+      if (symmetric && first.row != second.row) {
+        Fail(file, later.line,
+             "symmetric matrix has entry " + where(later.row, later.col) +
+                 " in both triangles (its transpose is on line " + std::to_string(earlier.line) +
+                 "); give each off-diagonal term once, in either triangle");
+      }
+      Fail(file, later.line,
+           "entry " + where(later.row, later.col) + " given twice (also on line " +
+               std::to_string(earlier.line) + ")");
+    }
+    // Compressed column storage built directly (no duplicates are left to sum): O(cols + nnz)
+    // time and memory, whatever the number of rows. Scattering the entries in key order leaves
+    // the rows of every column ascending: for (row, col) keys directly; for symmetric (min, max)
+    // keys, column j first receives the rows i < j (from keys (i, j), ascending i), then the rows
+    // i >= j (from keys (j, i), ascending i).
+    size_t stored = 0;
+    for (const TextEntry& e : entries) stored += symmetric && e.row != e.col ? 2 : 1;
+    Eigen::SparseMatrix<double>& a = m.real;
+    a = Eigen::SparseMatrix<double>(static_cast<Eigen::Index>(m.rows),
+                                    static_cast<Eigen::Index>(m.cols));
+    a.resizeNonZeros(static_cast<Eigen::Index>(stored));
+    int* outer = a.outerIndexPtr();
+    int* inner = a.innerIndexPtr();
+    double* value = a.valuePtr();
+    for (const TextEntry& e : entries) {
+      ++outer[e.col + 1];
+      if (symmetric && e.row != e.col) ++outer[e.row + 1];
+    }
+    for (int64_t j = 0; j < m.cols; ++j) outer[j + 1] += outer[j];
+    std::vector<int> next(outer, outer + m.cols);
+    std::vector<double> imag(m.is_complex ? stored : 0);
+    const auto put = [&](int64_t r, int64_t c, const TextEntry& e) {
+      const int p = next[static_cast<size_t>(c)]++;
+      inner[p] = static_cast<int>(r);
+      value[p] = e.re;
+      if (m.is_complex) imag[static_cast<size_t>(p)] = e.im;
     };
-    fill(m.real, false);
+    for (const uint32_t k : order) {
+      const TextEntry& e = entries[k];
+      put(e.row, e.col, e);
+      if (symmetric && e.row != e.col) put(e.col, e.row, e);
+    }
     if (m.is_complex) {
-      fill(m.imag, true);
+      m.imag = a;
+      std::copy(imag.begin(), imag.end(), m.imag.valuePtr());
     } else {
       m.imag = Eigen::SparseMatrix<double>();
     }
