@@ -1,0 +1,411 @@
+// Craig-Bampton reduction: partition, constraint modes (CHOLMOD multi-RHS solve), fixed-interface
+// modes (ARPACK shift-invert or dense), reduced matrices and their structural checks.
+
+// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's SelfAdjointEigenSolver when Eigen
+// is not a system include (CMake's Eigen3::Eigen target is; a hand -I is not).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "arpack_eigs.h"
+#include "cholmod_factor.h"
+#include "fricrom/reduction.h"
+
+namespace fricrom {
+namespace {
+
+using reduction_detail::CholmodFactor;
+using reduction_detail::EigsResult;
+using reduction_detail::ShiftInvertEigs;
+using reduction_detail::SymShiftInvertCholmodOp;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double MaxAbs(const Eigen::MatrixXd& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
+
+double MaxAbs(const Eigen::SparseMatrix<double>& a) {
+  double m = 0.0;
+  for (int k = 0; k < a.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
+      m = std::max(m, std::abs(it.value()));
+  return m;
+}
+
+void CheckSymmetric(const Eigen::SparseMatrix<double>& a, const char* name) {
+  const Eigen::SparseMatrix<double> at = a.transpose();
+  const Eigen::SparseMatrix<double> d = a - at;
+  const double scale = MaxAbs(a);
+  if (MaxAbs(d) > 1e-8 * scale) {
+    throw std::invalid_argument(std::string("ReduceCraigBampton: ") + name +
+                                " is not symmetric (store both triangles)");
+  }
+}
+
+// Blocks of a symmetric matrix in the [boundary | interior] partition.
+struct Blocks {
+  Eigen::SparseMatrix<double> ii;  // n_i x n_i
+  Eigen::SparseMatrix<double> ib;  // n_i x n_b
+  Eigen::MatrixXd bb;              // n_b x n_b
+};
+
+Blocks Partition(const Eigen::SparseMatrix<double>& a, const std::vector<int>& new_index,
+                 const std::vector<bool>& is_boundary, int nb, int ni) {
+  std::vector<Eigen::Triplet<double>> tii, tib;
+  Blocks out;
+  out.bb = Eigen::MatrixXd::Zero(nb, nb);
+  for (int col = 0; col < a.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, col); it; ++it) {
+      const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
+      const int nr = new_index[r], nc = new_index[c];
+      if (is_boundary[r] && is_boundary[c]) {
+        out.bb(nr, nc) += it.value();
+      } else if (!is_boundary[r] && !is_boundary[c]) {
+        tii.emplace_back(nr, nc, it.value());
+      } else if (!is_boundary[r]) {
+        tib.emplace_back(nr, nc, it.value());
+      }
+    }
+  }
+  out.ii.resize(ni, ni);
+  out.ii.setFromTriplets(tii.begin(), tii.end());
+  out.ib.resize(ni, nb);
+  out.ib.setFromTriplets(tib.begin(), tib.end());
+  return out;
+}
+
+struct Modes {
+  Eigen::VectorXd lambda;
+  Eigen::MatrixXd phi;
+};
+
+// All finite eigenpairs (ascending) of K phi = lambda M phi through the factor K - sigma M = L L^T:
+// L^-1 M L^-T y = nu y, lambda = sigma + 1/nu, phi = L^-T y / sqrt(nu). False if not factorable.
+bool DenseModes(const Eigen::SparseMatrix<double>& k, const Eigen::SparseMatrix<double>& m,
+                double sigma, Modes* out, std::string* error) {
+  const Eigen::MatrixXd kd = Eigen::MatrixXd(k), md = Eigen::MatrixXd(m);
+  Eigen::LLT<Eigen::MatrixXd> llt(kd - sigma * md);
+  if (llt.info() != Eigen::Success) {
+    *error = "K_ii - shift * M_ii not positive definite (dense Cholesky)";
+    return false;
+  }
+  const auto l = llt.matrixL();
+  Eigen::MatrixXd c = l.solve(md);
+  c = l.solve(c.transpose()).eval();
+  c = 0.5 * (c + c.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(c);
+  if (es.info() != Eigen::Success) {
+    *error = "dense symmetric eigensolver failed";
+    return false;
+  }
+  const Eigen::VectorXd nu = es.eigenvalues();  // ascending nu = descending lambda
+  const double nu_max = nu.size() ? nu.maxCoeff() : 0.0;
+  int count = 0;
+  for (Eigen::Index j = 0; j < nu.size(); ++j) count += nu(j) > 1e-13 * nu_max ? 1 : 0;
+  out->lambda.resize(count);
+  out->phi.resize(k.rows(), count);
+  const Eigen::Index n = nu.size();
+  for (int j = 0; j < count; ++j) {
+    const Eigen::Index src = n - 1 - j;
+    out->lambda(j) = sigma + 1.0 / nu(src);
+    out->phi.col(j) = l.transpose().solve(es.eigenvectors().col(src)) / std::sqrt(nu(src));
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* ToString(CraigBamptonStatus status) {
+  switch (status) {
+    case CraigBamptonStatus::kSuccess: return "SUCCESS";
+    case CraigBamptonStatus::kFactorizationFailed: return "FACTORIZATION_FAILED";
+    case CraigBamptonStatus::kEigenNotConverged: return "EIGEN_NOT_CONVERGED";
+    case CraigBamptonStatus::kChecksFailed: return "CHECKS_FAILED";
+  }
+  return "UNKNOWN";
+}
+
+bool CraigBamptonOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = m;
+    return false;
+  };
+  if (num_modes < 1) return fail("num_modes must be >= 1, got " + std::to_string(num_modes));
+  if (!(std::isfinite(cutoff_hz) && cutoff_hz >= 0.0))
+    return fail("cutoff_hz must be finite and >= 0 (0: use num_modes)");
+  if (!(std::isfinite(shift) && shift <= 0.0))
+    return fail("shift must be finite and <= 0 (the lowest modes are computed)");
+  if (!(std::isfinite(eigen_tolerance) && eigen_tolerance >= 0.0))
+    return fail("eigen_tolerance must be finite and >= 0 (0: machine precision)");
+  if (max_eigen_iterations < 1) return fail("max_eigen_iterations must be >= 1");
+  if (dense_eigen_max_size < 0) return fail("dense_eigen_max_size must be >= 0");
+  if (!(std::isfinite(check_tolerance) && check_tolerance > 0.0))
+    return fail("check_tolerance must be finite and > 0");
+  return true;
+}
+
+double CraigBamptonChecks::Max() const {
+  return std::max({stiffness_symmetry, mass_symmetry, stiffness_coupling, modal_mass,
+                   modal_stiffness, eigen_residual});
+}
+
+std::string CraigBamptonSummary::BriefReport() const {
+  char buf[512];
+  const double f0 = frequencies_hz.empty() ? 0.0 : frequencies_hz.front();
+  const double f1 = frequencies_hz.empty() ? 0.0 : frequencies_hz.back();
+  std::snprintf(buf, sizeof buf,
+                "Craig-Bampton %s: n=%d (boundary %d, interior %d), %d modes %.4g-%.4g Hz, %s "
+                "(%d batches, %d restarts, %d solves), checks max %.2e, %.3f s (factor %.3f, "
+                "psi %.3f, eig %.3f, assembly %.3f)",
+                ToString(status), num_dofs, num_boundary, num_interior, modes, f0, f1,
+                dense_eigensolver ? "dense" : "ARPACK", eigen_batches, eigen_restarts,
+                operator_applications, checks.Max(), wall_s, factor_s, constraint_modes_s,
+                eigen_s, assembly_s);
+  std::string s = buf;
+  if (!message.empty()) s += ": " + message;
+  return s;
+}
+
+ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
+                                const Eigen::SparseMatrix<double>& mass,
+                                const std::vector<int>& boundary,
+                                const CraigBamptonOptions& options,
+                                CraigBamptonSummary* summary) {
+  const auto t_start = Clock::now();
+  // ---- 1. Caller contract.
+  if (summary == nullptr) throw std::invalid_argument("ReduceCraigBampton: summary is null");
+  std::string err;
+  if (!options.IsValid(&err)) throw std::invalid_argument("CraigBamptonOptions: " + err);
+  const Eigen::Index n_full = stiffness.rows();
+  if (stiffness.cols() != n_full || mass.rows() != n_full || mass.cols() != n_full) {
+    throw std::invalid_argument("ReduceCraigBampton: K and M must be square and of equal size");
+  }
+  if (n_full == 0) throw std::invalid_argument("ReduceCraigBampton: empty model");
+  const int n = static_cast<int>(n_full);
+  std::vector<bool> is_boundary(static_cast<size_t>(n), false);
+  for (int b : boundary) {
+    if (b < 0 || b >= n) {
+      throw std::invalid_argument("ReduceCraigBampton: boundary index " + std::to_string(b) +
+                                  " out of range [0, " + std::to_string(n) + ")");
+    }
+    if (is_boundary[b]) {
+      throw std::invalid_argument("ReduceCraigBampton: duplicate boundary index " +
+                                  std::to_string(b));
+    }
+    is_boundary[b] = true;
+  }
+  CheckSymmetric(stiffness, "K");
+  CheckSymmetric(mass, "M");
+
+  CraigBamptonSummary& s = *summary;
+  s = CraigBamptonSummary{};
+  const int nb = static_cast<int>(boundary.size());
+  const int ni = n - nb;
+  s.num_dofs = n;
+  s.num_boundary = nb;
+  s.num_interior = ni;
+  ReducedModel out;
+  out.boundary_dofs = boundary;
+  auto finish = [&](CraigBamptonStatus st, const std::string& msg) {
+    s.status = st;
+    s.message = msg;
+    s.wall_s = Seconds(t_start);
+    if (st != CraigBamptonStatus::kSuccess && st != CraigBamptonStatus::kChecksFailed) {
+      ReducedModel empty;
+      empty.boundary_dofs = boundary;
+      return empty;
+    }
+    return out;
+  };
+
+  // ---- 2. Partition [boundary in the given order | interior ascending].
+  std::vector<int> new_index(static_cast<size_t>(n));
+  for (int j = 0; j < nb; ++j) new_index[boundary[j]] = j;
+  for (int i = 0, c = 0; i < n; ++i) {
+    if (!is_boundary[i]) {
+      new_index[i] = c++;
+      out.interior_dofs.push_back(i);
+    }
+  }
+  const Blocks kb = Partition(stiffness, new_index, is_boundary, nb, ni);
+  const Blocks mb = Partition(mass, new_index, is_boundary, nb, ni);
+
+  // ---- 3. Factor K_ii once; constraint modes Psi = -K_ii^-1 K_ib.
+  CholmodFactor kfac;
+  const bool need_kfac = ni > 0 && (nb > 0 || options.shift == 0.0);
+  auto t0 = Clock::now();
+  if (need_kfac && !kfac.Factorize(kb.ii, &err)) {
+    s.factor_s = Seconds(t0);
+    return finish(CraigBamptonStatus::kFactorizationFailed,
+                  "K_ii: " + err +
+                      (nb == 0 ? "" : "; the boundary DOFs must suppress every rigid-body motion "
+                                      "of the interior"));
+  }
+  s.factor_s = Seconds(t0);
+  t0 = Clock::now();
+  out.constraint_modes = Eigen::MatrixXd::Zero(ni, nb);
+  if (ni > 0 && nb > 0) {
+    const Eigen::MatrixXd kib = Eigen::MatrixXd(kb.ib);
+    kfac.Solve(kib, out.constraint_modes);
+    out.constraint_modes = -out.constraint_modes;
+  }
+  s.constraint_modes_s = Seconds(t0);
+
+  // ---- 4. Fixed-interface modes.
+  t0 = Clock::now();
+  const double two_pi = 2.0 * std::numbers::pi;
+  const bool by_cutoff = options.cutoff_hz > 0.0;
+  const double lambda_cut = std::pow(two_pi * options.cutoff_hz, 2);
+  Modes modes;
+  std::string note;
+  if (ni > 0) {
+    const int first_nev = std::min(options.num_modes, ni);
+    const bool dense = ni <= options.dense_eigen_max_size || first_nev > ni - 2;
+    if (!dense) {
+      SymShiftInvertCholmodOp op(kb.ii, mb.ii);
+      if (options.shift == 0.0) {
+        op.use_factor(&kfac);
+      } else {
+        const auto tf = Clock::now();
+        const bool ok = op.set_shift(options.shift, &err);
+        s.factor_s += Seconds(tf);
+        if (!ok) {
+          s.eigen_s = Seconds(t0);
+          return finish(CraigBamptonStatus::kFactorizationFailed, "K_ii - shift * M_ii: " + err);
+        }
+      }
+      int nev = first_nev;
+      bool go_dense = false;
+      while (true) {
+        const EigsResult r = ShiftInvertEigs(op, nev, options.eigen_tolerance,
+                                             options.max_eigen_iterations);
+        ++s.eigen_batches;
+        s.eigen_restarts += r.restarts;
+        s.operator_applications = op.applications();
+        if (!r.converged) {
+          s.eigen_s = Seconds(t0);
+          return finish(CraigBamptonStatus::kEigenNotConverged, r.message);
+        }
+        modes.lambda = r.lambda;
+        modes.phi = r.vectors;
+        if (!by_cutoff || r.lambda(nev - 1) > lambda_cut) break;
+        if (nev >= ni - 2) {  // every mode below the cutoff: finish densely
+          go_dense = true;
+          break;
+        }
+        nev = std::min(2 * nev, ni - 2);
+      }
+      if (go_dense) {
+        note = "cutoff above all ARPACK-reachable modes, dense eigensolver used";
+        if (!DenseModes(kb.ii, mb.ii, options.shift, &modes, &err)) {
+          s.eigen_s = Seconds(t0);
+          return finish(CraigBamptonStatus::kFactorizationFailed, err);
+        }
+        s.dense_eigensolver = true;
+      }
+    } else {
+      s.dense_eigensolver = true;
+      if (!DenseModes(kb.ii, mb.ii, options.shift, &modes, &err)) {
+        s.eigen_s = Seconds(t0);
+        return finish(CraigBamptonStatus::kFactorizationFailed, err);
+      }
+    }
+    // Selection.
+    int keep = 0;
+    if (by_cutoff) {
+      while (keep < modes.lambda.size() && modes.lambda(keep) <= lambda_cut) ++keep;
+    } else {
+      keep = std::min<int>(options.num_modes, static_cast<int>(modes.lambda.size()));
+      if (keep < options.num_modes) {
+        note = "num_modes clamped to " + std::to_string(keep) + " (interior modes available)";
+      }
+    }
+    modes.lambda.conservativeResize(keep);
+    modes.phi.conservativeResize(Eigen::NoChange, keep);
+    // Mass normalisation (ARPACK's M-orthonormality, made exact per column).
+    for (int j = 0; j < keep; ++j) {
+      const Eigen::VectorXd mphi = mb.ii * modes.phi.col(j);
+      modes.phi.col(j) /= std::sqrt(modes.phi.col(j).dot(mphi));
+    }
+  }
+  s.eigen_s = Seconds(t0);
+  const int nq = static_cast<int>(modes.lambda.size());
+  s.modes = nq;
+  out.modal_frequencies_hz.resize(nq);
+  for (int j = 0; j < nq; ++j) {
+    out.modal_frequencies_hz(j) = std::sqrt(std::max(modes.lambda(j), 0.0)) / two_pi;
+    s.frequencies_hz.push_back(out.modal_frequencies_hz(j));
+  }
+  out.normal_modes = modes.phi;
+
+  // ---- 5. Reduced matrices T^T A T with T = [[I, 0], [Psi, Phi]], and checks.
+  t0 = Clock::now();
+  const Eigen::MatrixXd& psi = out.constraint_modes;
+  const Eigen::MatrixXd& phi = out.normal_modes;
+  auto reduce = [&](const Blocks& a, Eigen::MatrixXd* r, double* bq_max) {
+    const Eigen::MatrixXd aii_psi = a.ii * psi;
+    const Eigen::MatrixXd aii_phi = a.ii * phi;
+    const Eigen::MatrixXd aib = Eigen::MatrixXd(a.ib);
+    r->resize(nb + nq, nb + nq);
+    r->topLeftCorner(nb, nb) =
+        a.bb + aib.transpose() * psi + psi.transpose() * (aib + aii_psi);
+    r->topRightCorner(nb, nq) = aib.transpose() * phi + psi.transpose() * aii_phi;
+    r->bottomLeftCorner(nq, nb) = phi.transpose() * (aib + aii_psi);
+    r->bottomRightCorner(nq, nq) = phi.transpose() * aii_phi;
+    *bq_max = std::max(MaxAbs(Eigen::MatrixXd(r->topRightCorner(nb, nq))),
+                       MaxAbs(Eigen::MatrixXd(r->bottomLeftCorner(nq, nb))));
+  };
+  double kbq = 0.0, mbq = 0.0;
+  reduce(kb, &out.stiffness, &kbq);
+  reduce(mb, &out.mass, &mbq);
+  CraigBamptonChecks& ch = s.checks;
+  const double kmax = MaxAbs(out.stiffness), mmax = MaxAbs(out.mass);
+  ch.stiffness_symmetry =
+      kmax > 0 ? MaxAbs(Eigen::MatrixXd(out.stiffness - out.stiffness.transpose())) / kmax : 0.0;
+  ch.mass_symmetry =
+      mmax > 0 ? MaxAbs(Eigen::MatrixXd(out.mass - out.mass.transpose())) / mmax : 0.0;
+  const double coupling_scale = MaxAbs(stiffness) * MaxAbs(phi) * (1.0 + MaxAbs(psi));
+  ch.stiffness_coupling = coupling_scale > 0 ? kbq / coupling_scale : 0.0;
+  if (nq > 0) {
+    const auto qq = Eigen::seqN(nb, nq);
+    ch.modal_mass = MaxAbs(Eigen::MatrixXd(out.mass(qq, qq) -
+                                           Eigen::MatrixXd::Identity(nq, nq)));
+    const double lscale =
+        std::max({modes.lambda.cwiseAbs().maxCoeff(), std::abs(options.shift), 1e-300});
+    ch.modal_stiffness =
+        MaxAbs(Eigen::MatrixXd(out.stiffness(qq, qq) -
+                               Eigen::MatrixXd(modes.lambda.asDiagonal()))) / lscale;
+    const double kii_max = MaxAbs(kb.ii), mii_max = MaxAbs(mb.ii);
+    for (int j = 0; j < nq; ++j) {
+      const Eigen::VectorXd kp = kb.ii * phi.col(j), mp = mb.ii * phi.col(j);
+      const double den = (kii_max + std::abs(modes.lambda(j)) * mii_max) * phi.col(j).norm();
+      if (den > 0)
+        ch.eigen_residual =
+            std::max(ch.eigen_residual, (kp - modes.lambda(j) * mp).norm() / den);
+    }
+  }
+  out.stiffness = 0.5 * (out.stiffness + out.stiffness.transpose()).eval();
+  out.mass = 0.5 * (out.mass + out.mass.transpose()).eval();
+  s.assembly_s = Seconds(t0);
+  (void)mbq;
+
+  if (ch.Max() > options.check_tolerance) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "structural check %.3e exceeds check_tolerance %.1e",
+                  ch.Max(), options.check_tolerance);
+    return finish(CraigBamptonStatus::kChecksFailed, note.empty() ? buf : note + "; " + buf);
+  }
+  return finish(CraigBamptonStatus::kSuccess, note);
+}
+
+}  // namespace fricrom
