@@ -19,31 +19,15 @@ Conventions drawn (they must match src/model/case_file.cpp and docs/theory.md):
   Eq. 11: F0 on damper 1 = F0_ref (1 - gamma), on damper 2 = F0_ref (1 + gamma).
 """
 
-import sys
-
-_MISSING = []
-try:
-    import numpy as np
-except ImportError:
-    _MISSING.append(("numpy", "python3-numpy"))
-try:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.patches import Arc, FancyArrowPatch, Polygon, Rectangle
-except ImportError:
-    _MISSING.append(("matplotlib", "python3-matplotlib"))
-if _MISSING:
-    for module, package in _MISSING:
-        sys.stderr.write(
-            f"draw_conventions.py: error: Python module '{module}' is not available; "
-            f"install the Debian package {package} and run with /usr/bin/python3\n"
-        )
-    sys.exit(2)
-
 import os
+import sys
 import tempfile
+
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fricrom_plot_common  # noqa: E402,F401  (checks numpy and matplotlib first, exit 2 if missing)
+from fricrom_plot_common import np, plt  # noqa: E402
+from matplotlib.patches import Arc, FancyArrowPatch, Polygon, Rectangle  # noqa: E402
 
 BLADE_FACE = "#dfe6ee"
 BLADE_EDGE = "#44546a"

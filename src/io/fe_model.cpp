@@ -1,10 +1,9 @@
 // FeModel::Find, ReadFe (reader dispatch) and the text helpers shared by the text readers
-// (nastran_punch.cpp, abaqus_reader.cpp, calculix_reader.cpp, matrix_market.cpp).
-//
-// The shared helpers live in namespace fricrom::fe_text. They are not in a header because the
-// public header is fixed; each reader repeats the few declarations it uses (a mismatch is a link
-// error, not silent misbehaviour).
+// (nastran_punch.cpp, abaqus_reader.cpp, calculix_reader.cpp, matrix_market.cpp), declared in the
+// private header fe_text.h.
 #include "fricrom/fe_model.h"
+
+#include "fe_text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -26,9 +25,6 @@ namespace fricrom {
 
 namespace fe_text {
 
-// Largest row/column count accepted from a file (Eigen's 32-bit storage index and memory: a
-// sparse matrix stores one int per column even when empty).
-constexpr int64_t kMaxDimension = 100'000'000;
 
 std::string Printable(std::string_view s) {
   constexpr size_t kMax = 40;
@@ -121,7 +117,6 @@ bool ParseInt(std::string_view s, int64_t& out) {
   return ec == std::errc() && ptr == s.data() + s.size();
 }
 
-enum class RealStatus { kOk, kEmpty, kBad, kNonFinite };
 
 // Whole (trimmed) field as a double. Accepts a leading '+', 'D'/'d' exponents, and with
 // `nastran` the implicit exponent of Nastran fields ("1.5-3" = 1.5e-3, "2.+5" = 2e5). NaN, Inf
@@ -233,14 +228,6 @@ std::string DescribeDof(const DofId& d) {
   return "node " + std::to_string(d.node) + " component " + std::to_string(d.component);
 }
 
-// One matrix entry as read from a text file; row/col are 0-based.
-struct TextEntry {
-  int64_t row = 0;
-  int64_t col = 0;
-  double re = 0;
-  double im = 0;
-  size_t line = 0;
-};
 
 // True when some off-diagonal entry (i, j) also appears as (j, i).
 bool HasTransposePair(const std::vector<TextEntry>& entries) {
@@ -397,7 +384,6 @@ void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entr
 
 // Highest accepted component number in DOF maps (Abaqus numbers degrees of freedom up to 30;
 // Nastran uses 1..6 and 0 for scalar points).
-constexpr int kMaxComponent = 30;
 
 // Fails when a DOF appears twice in a map; `lines` gives the line of each DOF (may be empty).
 void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,

@@ -16,37 +16,10 @@
 #include <vector>
 
 #include "fricrom/fe_model.h"
+#include "fe_text.h"
 
 namespace fricrom {
 
-// Shared text helpers, defined in fe_model.cpp.
-namespace fe_text {
-constexpr int64_t kMaxDimension = 100'000'000;
-constexpr int kMaxComponent = 30;
-struct TextEntry {
-  int64_t row = 0;
-  int64_t col = 0;
-  double re = 0;
-  double im = 0;
-  size_t line = 0;
-};
-std::string Printable(std::string_view s);
-[[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what);
-std::string ReadWholeFile(const std::string& path, const std::string& what);
-bool NextLine(std::string_view text, size_t& pos, std::string_view& line);
-std::string_view Trim(std::string_view s);
-std::string Upper(std::string_view s);
-double RequireReal(std::string_view field, bool nastran, const std::string& file, size_t line,
-                   const std::string& what);
-int64_t RequireInt(std::string_view field, const std::string& file, size_t line,
-                   const std::string& what);
-void SplitTokens(std::string_view line, std::vector<std::string_view>& tokens);
-std::string DescribeDof(const DofId& d);
-void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
-                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe);
-std::vector<DofId> ReadDofCsv(const std::string& path);
-std::string DefaultDofSidecar(const std::string& path);
-}  // namespace fe_text
 
 namespace {
 

@@ -12,33 +12,10 @@
 #include <utility>
 
 #include "fricrom/fe_model.h"
+#include "fe_text.h"
 
 namespace fricrom {
 
-// Shared text helpers, defined in fe_model.cpp.
-namespace fe_text {
-constexpr int64_t kMaxDimension = 100'000'000;
-struct TextEntry {
-  int64_t row = 0;
-  int64_t col = 0;
-  double re = 0;
-  double im = 0;
-  size_t line = 0;
-};
-enum class RealStatus { kOk, kEmpty, kBad, kNonFinite };
-std::string Printable(std::string_view s);
-[[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what);
-std::string ReadWholeFile(const std::string& path, const std::string& what);
-bool NextLine(std::string_view text, size_t& pos, std::string_view& line);
-std::string_view Trim(std::string_view s);
-std::string Upper(std::string_view s);
-bool ParseInt(std::string_view s, int64_t& out);
-RealStatus ParseReal(std::string_view s, double& out, bool nastran);
-bool DofLess(const DofId& a, const DofId& b);
-std::string DescribeDof(const DofId& d);
-void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
-                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe);
-}  // namespace fe_text
 
 namespace {
 

@@ -20,25 +20,12 @@ using fricrom::DofId;
 using fricrom::FeMatrix;
 using fricrom::FeModel;
 using fricrom::FeReadError;
+using fricrom::testing::ExpectError;
 
 const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/abaqus/";
 
 using TempDir = fricrom::testing::ScratchDir;
 
-template <typename F>
-void ExpectError(F read, const std::string& file, int line, const std::string& what) {
-  try {
-    read();
-    ADD_FAILURE() << "no FeReadError; expected one containing '" << what << "'";
-  } catch (const FeReadError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(file), std::string::npos) << msg;
-    if (line > 0) {
-      EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
-    }
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
-}
 
 // model.inp: one B33 element, nodes (0,0,0) and (3,0,0); *BEAM GENERAL SECTION
 // A = 0.25, I11 = 1.5e-4, I12 = 0, I22 = 1.5e-4, J = 3e-4; E = 100e6, G = 80e6; density 100.

@@ -22,25 +22,12 @@ using fricrom::DofId;
 using fricrom::FeMatrix;
 using fricrom::FeModel;
 using fricrom::FeReadError;
+using fricrom::testing::ExpectError;
 
 const std::string kPrefix = std::string(FRICROM_SOURCE_DIR) + "/tests/data/calculix/twobricks";
 
 using TempDir = fricrom::testing::ScratchDir;
 
-template <typename F>
-void ExpectError(F read, const std::string& file, int line, const std::string& what) {
-  try {
-    read();
-    ADD_FAILURE() << "no FeReadError; expected one containing '" << what << "'";
-  } catch (const FeReadError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(file), std::string::npos) << msg;
-    if (line > 0) {
-      EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
-    }
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
-}
 
 // twobricks.inp: nodes 1..12 on the grid x in {0,1,2}, y, z in {0,1}; elements
 // (1,2,5,4,7,8,11,10) and (2,3,6,5,8,9,12,11); E = 210000, nu = 0.3, rho = 7.8e-9; nodes 1, 4,

@@ -3,10 +3,14 @@
 
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+
+#include "fricrom/fe_model.h"
 
 namespace fricrom::testing {
 
@@ -38,5 +42,22 @@ class ScratchDir {
  private:
   std::filesystem::path path_;
 };
+
+// Expects `read` to throw a FeReadError whose message names `file`, `line` (when > 0) and
+// contains `what`.
+template <typename F>
+void ExpectError(F read, const std::string& file, int line, const std::string& what) {
+  try {
+    read();
+    ADD_FAILURE() << "no FeReadError; expected one containing '" << what << "'";
+  } catch (const FeReadError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(file), std::string::npos) << msg;
+    if (line > 0) {
+      EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
+    }
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
 
 }  // namespace fricrom::testing

@@ -25,25 +25,12 @@ using fricrom::DofId;
 using fricrom::FeMatrix;
 using fricrom::FeModel;
 using fricrom::FeReadError;
+using fricrom::testing::ExpectError;
 
 const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/mtx/";
 
 using TempDir = fricrom::testing::ScratchDir;
 
-template <typename F>
-void ExpectError(F read, const std::string& file, int line, const std::string& what) {
-  try {
-    read();
-    ADD_FAILURE() << "no FeReadError; expected one containing '" << what << "'";
-  } catch (const FeReadError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(file), std::string::npos) << msg;
-    if (line > 0) {
-      EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
-    }
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
-}
 
 std::string Slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

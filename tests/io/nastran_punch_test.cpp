@@ -26,6 +26,7 @@ using fricrom::DofId;
 using fricrom::FeMatrix;
 using fricrom::FeModel;
 using fricrom::FeReadError;
+using fricrom::testing::ExpectError;
 
 const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/";
 
@@ -52,22 +53,6 @@ double At(const FeMatrix& m, DofId row, DofId col) {
   return (r < 0 || c < 0) ? std::nan("") : At(m, r, c);
 }
 
-// Expects `read` to throw a FeReadError whose message names `file`, `line` (when > 0) and
-// contains `what`.
-template <typename F>
-void ExpectError(F read, const std::string& file, int line, const std::string& what) {
-  try {
-    read();
-    ADD_FAILURE() << "no FeReadError; expected one containing '" << what << "'";
-  } catch (const FeReadError& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(file), std::string::npos) << msg;
-    if (line > 0) {
-      EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
-    }
-    EXPECT_NE(msg.find(what), std::string::npos) << msg;
-  }
-}
 
 // ---- The real DMIG punch (pyNastran sample): IFO 6 and 9, large field, D exponents ------------
 

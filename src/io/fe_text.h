@@ -1,0 +1,63 @@
+// Text helpers shared by the text readers of src/io (DMIG punch, Abaqus, CalculiX, Matrix
+// Market, CalculiX decks); defined in fe_model.cpp. Private to src/io.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fricrom/fe_model.h"
+
+namespace fricrom::fe_text {
+
+// Largest row/column count accepted from a file (Eigen's 32-bit storage index and memory: a
+// sparse matrix stores one int per column even when empty).
+constexpr int64_t kMaxDimension = 100'000'000;
+// Largest DOF component accepted in a DOF map (6 for grids, more for user-defined DOFs).
+constexpr int kMaxComponent = 30;
+
+// One matrix entry as read from a text file; row/col are 0-based.
+struct TextEntry {
+  int64_t row = 0;
+  int64_t col = 0;
+  double re = 0;
+  double im = 0;
+  size_t line = 0;
+};
+
+enum class RealStatus { kOk, kEmpty, kBad, kNonFinite };
+
+// Short quoted excerpt of s, non-printable bytes escaped (for error messages).
+std::string Printable(std::string_view s);
+// Throws FeReadError "file:line: what" (line 0: no line).
+[[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what);
+std::string ReadWholeFile(const std::string& path, const std::string& what);
+// Next line of text from pos (without the line break); false at the end.
+bool NextLine(std::string_view text, size_t& pos, std::string_view& line);
+std::string_view Trim(std::string_view s);
+std::string Upper(std::string_view s);
+bool ParseInt(std::string_view s, int64_t& out);
+// Whole (trimmed) field as a double; `nastran` accepts implicit exponents ("1.5-3").
+RealStatus ParseReal(std::string_view s, double& out, bool nastran);
+double RequireReal(std::string_view field, bool nastran, const std::string& file, size_t line,
+                   const std::string& what);
+int64_t RequireInt(std::string_view field, const std::string& file, size_t line,
+                   const std::string& what);
+// Whitespace- and comma-separated tokens of a line.
+void SplitTokens(std::string_view line, std::vector<std::string_view>& tokens);
+bool DofLess(const DofId& a, const DofId& b);
+std::string DescribeDof(const DofId& d);
+bool HasTransposePair(const std::vector<TextEntry>& entries);
+void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,
+                     const std::vector<size_t>& lines);
+void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
+                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe);
+// DOF-map sidecar: header `node,component`, then one `node,component` line per row.
+std::vector<DofId> ReadDofCsv(const std::string& path);
+// Default DOF-map sidecar of a matrix file: same name, extension replaced by ".dof.csv".
+std::string DefaultDofSidecar(const std::string& path);
+
+}  // namespace fricrom::fe_text
