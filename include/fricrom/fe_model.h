@@ -58,6 +58,12 @@ struct CoordinateSystem {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
 };
 
+// Named set of nodes from an input deck (Abaqus/CalculiX *NSET, *NODE NSET=); names upper-case.
+struct NodeSet {
+  std::string name;
+  std::vector<int64_t> nodes;  // in the order of the deck, without repeats
+};
+
 struct FeModel {
   std::string source;  // file path(s) read
   std::string format;  // "op4", "dmig", "abaqus", "calculix", "matrix-market", ...
@@ -67,23 +73,32 @@ struct FeModel {
   // DOF order of an external superelement (Nastran EXTRN card: grids with their components, then
   // the modal SPOINTs); empty when the file has none.
   std::vector<DofId> external_dofs;
+  std::vector<NodeSet> node_sets;
 
-  // Case-insensitive lookup; nullptr if absent.
+  // Case-insensitive lookups; nullptr if absent.
   const FeMatrix* Find(const std::string& name) const;
+  const NodeSet* FindNodeSet(const std::string& name) const;
+  const FeNode* FindNode(int64_t id) const;
 };
 
 // Readers. Each throws FeReadError on bad input; none returns a partially read matrix.
 FeModel ReadOp4(const std::string& path);                  // Nastran OUTPUT4, ASCII or binary
 FeModel ReadNastranPunch(const std::string& path);         // DMIG (+ EXTRN, GRID, CORD2R) .pch
 FeModel ReadAbaqusMatrix(const std::string& path);         // *MATRIX GENERATE .mtx
-FeModel ReadCalculix(const std::string& prefix);           // prefix.sti, prefix.mas, prefix.dof
+// prefix.sti, prefix.mas, prefix.dof; plus nodes and node sets of the deck prefix.inp when present.
+FeModel ReadCalculix(const std::string& prefix);
+// Nodes (*NODE, rectangular coordinates) and node sets (*NSET with or without GENERATE, NSET= of
+// *NODE) of an Abaqus/CalculiX input deck, following *INCLUDE (relative to the including file);
+// other keywords and their data lines are skipped. Appended to `model`.
+void ReadInpNodesAndSets(const std::string& path, FeModel& model);
 // Matrix Market coordinate real general/symmetric; DOF map from `dof_csv` (node,component rows)
 // when given.
 FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv = "");
 // Writes every value with %.17g; the DOF-map sidecar when the matrix has one. Atomic writes.
 void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
                        const std::string& dof_csv = "");
-// Chooses the reader from the file's extension and content.
+// Chooses the reader from the file's extension and content (a CalculiX deck `job.inp` reads
+// job.sti/job.mas/job.dof beside it).
 FeModel ReadFe(const std::string& path);
 
 }  // namespace fricrom

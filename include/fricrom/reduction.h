@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "fricrom/fe_model.h"
+
 namespace fricrom {
 
 struct CraigBamptonOptions {
@@ -103,5 +105,86 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
                                 const std::vector<int>& boundary,
                                 const CraigBamptonOptions& options,
                                 CraigBamptonSummary* summary);
+
+// ---- Boundary selection -------------------------------------------------------------------
+
+// The rows of `matrix` (its DOF map) that belong to the nodes of the named node sets of `model`,
+// restricted to `components` (e.g. {1, 2, 3}; empty = every component the matrix has for the
+// node). Ordered set by set, node by node in the set's order, component ascending; a node in
+// several sets is taken once. Throws std::invalid_argument naming the set/node when a set is
+// unknown (the message lists the sets the model has), the matrix has no DOF map, or a node of a
+// set has none of the requested components in the matrix (e.g. a constrained node).
+struct BoundarySelection {
+  std::vector<int> indices;  // row indices in `matrix`
+  std::vector<DofId> dofs;   // the same rows as (node, component)
+  std::vector<int64_t> nodes;  // distinct nodes, in order of first appearance
+};
+BoundarySelection SelectBoundaryDofs(const FeModel& model, const FeMatrix& matrix,
+                                     const std::vector<std::string>& set_names,
+                                     const std::vector<int>& components = {});
+
+// ---- Lowest modes of a full sparse model (reference for the reduced one) -------------------
+
+struct ModalSolveOptions {
+  int num_modes = 10;
+  // Shift sigma [rad^2/s^2] of (K - sigma M)^-1 M; with auto_shift and a K that is not positive
+  // definite (free-free body), a negative shift is chosen from the matrices' scale instead.
+  double shift = 0.0;
+  bool auto_shift = true;
+  double tolerance = 0.0;        // ARPACK relative accuracy; 0 = machine precision
+  int max_iterations = 1000;
+  int dense_max_size = 200;      // models up to this size are solved densely
+  bool IsValid(std::string* error) const;
+};
+
+enum class ModalSolveStatus { kSuccess, kFactorizationFailed, kNotConverged };
+const char* ToString(ModalSolveStatus status);
+
+struct ModalSolveResult {
+  ModalSolveStatus status = ModalSolveStatus::kSuccess;
+  std::string message;
+  Eigen::VectorXd lambda;        // eigenvalues omega^2 [rad^2/s^2], ascending
+  Eigen::VectorXd frequencies_hz;  // sqrt(max(lambda, 0)) / 2 pi
+  Eigen::MatrixXd modes;         // mass-normalised, one column per eigenvalue
+  double shift_used = 0.0;
+  int restarts = 0;
+  double wall_s = 0.0;
+};
+
+// The `num_modes` lowest eigenpairs of K phi = lambda M phi (K, M symmetric, both triangles).
+// Throws std::invalid_argument on wrong sizes or invalid options.
+ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
+                                  const Eigen::SparseMatrix<double>& mass,
+                                  const ModalSolveOptions& options);
+
+// Eigenvalues (ascending, omega^2) of a dense reduced model.
+Eigen::VectorXd ReducedEigenvalues(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
+
+// ---- Rigid-body modes and mass properties ----------------------------------------------------
+
+// n x 6 rigid-body displacement fields (translations x, y, z, then rotations about x, y, z through
+// `reference`) of the DOFs `dofs`: components 1-3 translate, 4-6 rotate, 0 (scalar points such as
+// modal coordinates) are zero; components are in each node's displacement system (rectangular
+// CORD2R systems of `model`). Throws std::invalid_argument if a node has no coordinates in `model`,
+// gives its position in a system other than basic, or names an unknown system.
+Eigen::MatrixXd RigidBodyModes(const FeModel& model, const std::vector<DofId>& dofs,
+                               const Eigen::Vector3d& reference = Eigen::Vector3d::Zero());
+
+struct MassProperties {
+  double mass = 0.0;                                         // [kg]
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();          // [m]
+  Eigen::Matrix3d inertia_at_center = Eigen::Matrix3d::Zero();  // [kg m^2]
+};
+// From the 6 x 6 rigid-body mass matrix R^T M R (R about the origin). Throws if its mass <= 0.
+MassProperties MassPropertiesFromRigidMass(const Eigen::Matrix<double, 6, 6>& rigid_mass);
+
+// ---- Structural checks of a given Craig-Bampton model (e.g. a Nastran superelement) -----------
+
+// K_r, M_r ordered [nb boundary DOFs | nq modal coordinates]: symmetry, K_bq = 0 (relative to
+// max|K_r|), M_qq = I, K_qq diagonal (off-diagonal relative to its largest diagonal entry).
+// stiffness_coupling here is max|K_bq| / max|K_r|; eigen_residual is not applicable (0).
+// Throws std::invalid_argument on inconsistent sizes.
+CraigBamptonChecks CheckCraigBamptonMatrices(const Eigen::MatrixXd& stiffness,
+                                             const Eigen::MatrixXd& mass, int num_boundary);
 
 }  // namespace fricrom

@@ -16,6 +16,7 @@
 #include "app/cli_common.h"
 #include "app/design_commands.h"
 #include "app/fe_commands.h"
+#include "app/reduce_commands.h"
 #include "app/hdf5_writer.h"
 #include "fricrom/case.h"
 #include "fricrom/fe_model.h"
@@ -311,6 +312,8 @@ int Run(int argc, char** argv) {
   design.Register(app);
   FeCommands fe;
   fe.Register(app);
+  ReduceCommands reduce;
+  reduce.Register(app);
 
   try {
     app.parse(argc, argv);
@@ -325,6 +328,8 @@ int Run(int argc, char** argv) {
     if (rc >= 0) return rc;
     const int fe_rc = fe.Run();
     if (fe_rc >= 0) return fe_rc;
+    const int reduce_rc = reduce.Run();
+    if (reduce_rc >= 0) return reduce_rc;
   } catch (const FeReadError& e) {
     std::cerr << "fricrom: error: " << e.what() << "\n";
     return 2;

@@ -117,6 +117,12 @@ FeModel ReadCalculix(const std::string& prefix) {
     model.matrices.push_back(ReadTriplets(mas, "MASS", dofs));
     model.source += ", " + mas;
   }
+  // The deck that produced the matrices carries the node coordinates and node sets.
+  const std::string deck = prefix + ".inp";
+  if (std::filesystem::exists(deck)) {
+    ReadInpNodesAndSets(deck, model);
+    model.source += ", " + deck;
+  }
   return model;
 }
 

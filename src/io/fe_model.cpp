@@ -461,6 +461,21 @@ const FeMatrix* FeModel::Find(const std::string& name) const {
   return nullptr;
 }
 
+const NodeSet* FeModel::FindNodeSet(const std::string& name) const {
+  const std::string wanted = fe_text::Upper(name);
+  for (const NodeSet& s : node_sets) {
+    if (fe_text::Upper(s.name) == wanted) return &s;
+  }
+  return nullptr;
+}
+
+const FeNode* FeModel::FindNode(int64_t id) const {
+  for (const FeNode& n : nodes) {
+    if (n.id == id) return &n;
+  }
+  return nullptr;
+}
+
 namespace {
 
 std::string LowerExtension(const std::string& path) {
@@ -514,7 +529,7 @@ FeModel ReadFe(const std::string& path) {
     }
     return ReadNastranPunch(path);
   }
-  if (ext == ".sti" || ext == ".mas" || ext == ".dof") {
+  if (ext == ".sti" || ext == ".mas" || ext == ".dof" || ext == ".inp") {
     std::filesystem::path prefix(path);
     prefix.replace_extension();
     return ReadCalculix(prefix.string());
@@ -533,7 +548,7 @@ FeModel ReadFe(const std::string& path) {
   }
   fe_text::Fail(path, 0,
                 "unknown FE matrix format (expected .op4, .pch/.bdf/.dat with DMIG, .mtx (Matrix "
-                "Market or Abaqus), or .sti/.mas/.dof (CalculiX))");
+                "Market or Abaqus), or .sti/.mas/.dof/.inp (CalculiX))");
 }
 
 }  // namespace fricrom

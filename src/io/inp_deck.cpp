@@ -1,0 +1,198 @@
+// Nodes and node sets of an Abaqus/CalculiX input deck (.inp). Only *NODE, *NSET and *INCLUDE are
+// interpreted; every other keyword block is skipped, so a full analysis deck can be given.
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <map>
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "fe_text.h"
+#include "fricrom/fe_model.h"
+
+namespace fricrom {
+
+namespace {
+
+using fe_text::Fail;
+
+constexpr int kMaxIncludeDepth = 16;
+
+struct Keyword {
+  std::string name;                           // upper case, without '*'
+  std::map<std::string, std::string> params;  // upper-case keys; values as written
+};
+
+// "*NSET, NSET=Left, GENERATE" -> {NSET, {NSET: Left, GENERATE: ""}}.
+Keyword ParseKeyword(std::string_view line) {
+  Keyword k;
+  std::string_view rest = line.substr(1);
+  size_t comma = rest.find(',');
+  k.name = fe_text::Upper(fe_text::Trim(rest.substr(0, comma)));
+  while (comma != std::string_view::npos) {
+    rest = rest.substr(comma + 1);
+    comma = rest.find(',');
+    const std::string_view item = fe_text::Trim(rest.substr(0, comma));
+    if (item.empty()) continue;
+    const size_t eq = item.find('=');
+    const std::string key = fe_text::Upper(fe_text::Trim(item.substr(0, eq)));
+    const std::string value =
+        eq == std::string_view::npos ? std::string() : std::string(fe_text::Trim(item.substr(eq + 1)));
+    k.params[key] = value;
+  }
+  return k;
+}
+
+struct DeckState {
+  FeModel* model = nullptr;
+  std::unordered_map<int64_t, size_t> node_index;     // id -> model->nodes index
+  std::unordered_map<std::string, size_t> set_index;  // upper name -> model->node_sets index
+  std::vector<std::unordered_set<int64_t>> set_members;
+  // First place each set member was named, for the "undefined node" error at the end.
+  std::vector<std::pair<std::string, size_t>> member_origin;  // parallel to set_index entries
+};
+
+size_t SetFor(DeckState& st, const std::string& name, const std::string& file, size_t line) {
+  const std::string upper = fe_text::Upper(name);
+  if (upper.empty()) Fail(file, line, "expected a set name after NSET=");
+  auto it = st.set_index.find(upper);
+  if (it != st.set_index.end()) return it->second;
+  st.model->node_sets.push_back(NodeSet{upper, {}});
+  st.set_members.emplace_back();
+  st.member_origin.emplace_back(file, line);
+  return st.set_index[upper] = st.model->node_sets.size() - 1;
+}
+
+void AddToSet(DeckState& st, size_t set, int64_t node) {
+  if (st.set_members[set].insert(node).second) st.model->node_sets[set].nodes.push_back(node);
+}
+
+void ReadDeck(const std::string& path, DeckState& st, int depth) {
+  if (depth > kMaxIncludeDepth) {
+    Fail(path, 0, "*INCLUDE nested deeper than " + std::to_string(kMaxIncludeDepth) +
+                      " levels (a file including itself?)");
+  }
+  const std::string text = fe_text::ReadWholeFile(path, "Abaqus/CalculiX input deck (.inp)");
+  enum class Block { kNone, kNode, kNset, kNsetGenerate, kSkip } block = Block::kNone;
+  size_t current_set = 0;
+  bool node_has_set = false;
+  size_t pos = 0, number = 0;
+  std::string_view line;
+  std::vector<std::string_view> tokens;
+  while (fe_text::NextLine(text, pos, line)) {
+    ++number;
+    const std::string_view t = fe_text::Trim(line);
+    if (t.empty() || t.rfind("**", 0) == 0) continue;
+    if (t.front() == '*') {
+      const Keyword k = ParseKeyword(t);
+      block = Block::kSkip;
+      if (k.name == "INCLUDE") {
+        const auto it = k.params.find("INPUT");
+        if (it == k.params.end() || it->second.empty()) {
+          Fail(path, number, "*INCLUDE without INPUT=<file>");
+        }
+        std::filesystem::path inc(it->second);
+        if (inc.is_relative()) inc = std::filesystem::path(path).parent_path() / inc;
+        ReadDeck(inc.string(), st, depth + 1);
+      } else if (k.name == "NODE") {
+        const auto sys = k.params.find("SYSTEM");
+        if (sys != k.params.end() && fe_text::Upper(sys->second) != "R") {
+          Fail(path, number,
+               "*NODE, SYSTEM=" + sys->second +
+                   " is not supported: expected rectangular coordinates (SYSTEM=R or none)");
+        }
+        block = Block::kNode;
+        const auto nset = k.params.find("NSET");
+        node_has_set = nset != k.params.end();
+        if (node_has_set) current_set = SetFor(st, nset->second, path, number);
+      } else if (k.name == "NSET") {
+        const auto nset = k.params.find("NSET");
+        if (nset == k.params.end()) Fail(path, number, "*NSET without NSET=<name>");
+        current_set = SetFor(st, nset->second, path, number);
+        block = k.params.count("GENERATE") ? Block::kNsetGenerate : Block::kNset;
+      }
+      continue;
+    }
+    if (block == Block::kNone || block == Block::kSkip) continue;
+    fe_text::SplitTokens(t, tokens);
+    if (block == Block::kNode) {
+      if (tokens.size() < 2 || tokens.size() > 4) {
+        Fail(path, number,
+             "expected 'node id, x[, y[, z]]' under *NODE, got " + fe_text::Printable(t));
+      }
+      FeNode node;
+      node.id = fe_text::RequireInt(tokens[0], path, number, "a node id");
+      if (node.id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(node.id));
+      for (size_t c = 1; c < tokens.size(); ++c) {
+        node.xyz[static_cast<int>(c - 1)] =
+            fe_text::RequireReal(tokens[c], false, path, number, "a node coordinate [m]");
+      }
+      if (!st.node_index.emplace(node.id, st.model->nodes.size()).second) {
+        Fail(path, number, "node " + std::to_string(node.id) + " defined twice");
+      }
+      st.model->nodes.push_back(node);
+      if (node_has_set) AddToSet(st, current_set, node.id);
+    } else if (block == Block::kNsetGenerate) {
+      if (tokens.size() < 2 || tokens.size() > 3) {
+        Fail(path, number,
+             "expected 'first, last[, increment]' under *NSET, GENERATE, got " +
+                 fe_text::Printable(t));
+      }
+      const int64_t first = fe_text::RequireInt(tokens[0], path, number, "the first node id");
+      const int64_t last = fe_text::RequireInt(tokens[1], path, number, "the last node id");
+      const int64_t step =
+          tokens.size() == 3 ? fe_text::RequireInt(tokens[2], path, number, "the increment") : 1;
+      if (first <= 0 || last < first || step <= 0 || (last - first) / step > 100'000'000) {
+        Fail(path, number,
+             "expected 0 < first <= last and increment > 0 under *NSET, GENERATE, got " +
+                 fe_text::Printable(t));
+      }
+      for (int64_t n = first; n <= last; n += step) AddToSet(st, current_set, n);
+    } else {  // kNset: node ids or names of sets defined before
+      for (const std::string_view tok : tokens) {
+        int64_t id = 0;
+        if (fe_text::ParseInt(tok, id)) {
+          if (id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(id));
+          AddToSet(st, current_set, id);
+          continue;
+        }
+        const auto it = st.set_index.find(fe_text::Upper(tok));
+        if (it == st.set_index.end()) {
+          Fail(path, number,
+               "expected a node id or the name of a node set defined above, got " +
+                   fe_text::Printable(tok));
+        }
+        const std::vector<int64_t> members = st.model->node_sets[it->second].nodes;
+        for (const int64_t n : members) AddToSet(st, current_set, n);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void ReadInpNodesAndSets(const std::string& path, FeModel& model) {
+  DeckState st;
+  st.model = &model;
+  for (size_t i = 0; i < model.nodes.size(); ++i) st.node_index.emplace(model.nodes[i].id, i);
+  for (size_t i = 0; i < model.node_sets.size(); ++i) {
+    st.set_index.emplace(fe_text::Upper(model.node_sets[i].name), i);
+    st.set_members.emplace_back(model.node_sets[i].nodes.begin(), model.node_sets[i].nodes.end());
+    st.member_origin.emplace_back(path, 0);
+  }
+  ReadDeck(path, st, 0);
+  // Every set member must be a defined node: a set naming an unknown node would silently drop
+  // boundary DOFs later.
+  for (size_t s = 0; s < model.node_sets.size(); ++s) {
+    for (const int64_t n : model.node_sets[s].nodes) {
+      if (!st.node_index.count(n)) {
+        Fail(st.member_origin[s].first, st.member_origin[s].second,
+             "node set " + model.node_sets[s].name + " lists node " + std::to_string(n) +
+                 ", which no *NODE block defines");
+      }
+    }
+  }
+}
+
+}  // namespace fricrom
