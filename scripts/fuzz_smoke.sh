@@ -14,12 +14,13 @@ mkdir -p "$out"
 flags=(-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
        -Iinclude -isystem /usr/include/eigen3)
 declare -A corpus=([op4]=tests/data/op4 [punch]="tests/data/dmig tests/data/extseout"
-                   [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx)
-for t in op4 punch abaqus calculix mtx; do
+                   [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx
+                   [inp_deck]="tests/data/calculix meshes/damper/coarse")
+for t in op4 punch abaqus calculix mtx inp_deck; do
   echo "fuzz_smoke: building $t"
   clang++ "${flags[@]}" tests/fuzz/${t}_fuzz.cpp src/io/*.cpp -o "$out/${t}_fuzz"
 done
-for t in op4 punch abaqus calculix mtx; do
+for t in op4 punch abaqus calculix mtx inp_deck; do
   work="$out/corpus_$t"
   mkdir -p "$work"
   echo "fuzz_smoke: running $t for ${SECONDS_EACH} s"

@@ -19,7 +19,9 @@ PACKAGES=(
   nlohmann-json3-dev       # --json output
   python3-matplotlib python3-numpy python3-h5py   # figures (system /usr/bin/python3)
   clang libclang-rt-14-dev # libFuzzer smoke run of the FE readers
-  calculix-ccx             # regenerates the CalculiX fixtures
+  calculix-ccx             # regenerates the CalculiX fixtures and meshes/ (with gmsh)
+  gmsh                     # blade-sector and damper geometry + meshing (scripts/make_meshes.sh)
+  python3-scipy            # benchmarks/reduce_vs_scipy.py (side-by-side reduction)
 )
 
 missing=()

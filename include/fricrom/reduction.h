@@ -23,8 +23,9 @@ struct CraigBamptonOptions {
   // Must be <= 0 (the lowest modes are wanted). Use sigma < 0 when K_ii is singular (free-free
   // interior, e.g. an empty boundary set), e.g. -(2 pi * 1 Hz)^2 times a model scale.
   double shift = 0.0;
-  // ARPACK relative accuracy of the Ritz values; 0 means machine precision.
-  double eigen_tolerance = 0.0;
+  // ARPACK relative accuracy of the Ritz values; 0 means machine precision. 1e-12 halves the
+  // shift-invert solves against 0 on the 123k-DOF blade with the same checks (~1e-14).
+  double eigen_tolerance = 1e-12;
   // ARPACK restart limit (iparam[2]).
   int max_eigen_iterations = 1000;
   // Interior problems with at most this many DOFs are solved densely (LAPACK-style, all modes)
@@ -164,14 +165,16 @@ Eigen::VectorXd ReducedEigenvalues(const Eigen::MatrixXd& stiffness, const Eigen
 
 // Static response to a uniform acceleration `accel` [m/s^2] (body load f = M a, a = accel on the
 // translational components 1-3 of `dofs`) at the boundary DOFs: reduced model (load T^T f) against
-// the full model (CHOLMOD solve). It measures how well the kept modes carry an interior load; a
-// load on boundary DOFs alone is reproduced exactly by the constraint modes. K must be positive
-// definite (a supported body).
+// the full model (CHOLMOD solve), and at the interior DOFs recovered by u_i = Psi u_b + Phi q.
+// The boundary values are exact for any number of modes (static condensation is exact on the
+// boundary), so their error is a consistency check; the interior error measures how well the kept
+// modes carry an interior load. K must be positive definite (a supported body).
 struct StaticCheckResult {
   bool solved = false;
   std::string message;
-  double rel_error = 0.0;       // max|u_b,red - u_b,full| / max|u_b,full|
-  double max_displacement = 0.0;  // max|u_b,full| [m]
+  double rel_error = 0.0;           // max|u_b,red - u_b,full| / max|u_b,full|
+  double interior_rel_error = 0.0;  // max|u_i,rec - u_i,full| / max|u_i,full|
+  double max_displacement = 0.0;    // max|u_b,full| [m]
 };
 StaticCheckResult CompareStaticBodyLoad(const Eigen::SparseMatrix<double>& stiffness,
                                         const Eigen::SparseMatrix<double>& mass,

@@ -18,6 +18,10 @@ namespace {
 using fe_text::Fail;
 
 constexpr int kMaxIncludeDepth = 16;
+// Bounds on what *NSET, GENERATE may produce (one line / the whole deck): a 40-byte line must not
+// be able to ask for gigabytes.
+constexpr int64_t kMaxGenerateLine = 10'000'000;
+constexpr int64_t kMaxSetEntries = 10'000'000;
 
 struct Keyword {
   std::string name;                           // upper case, without '*'
@@ -51,6 +55,12 @@ struct DeckState {
   std::vector<std::unordered_set<int64_t>> set_members;
   // First place each set member was named, for the "undefined node" error at the end.
   std::vector<std::pair<std::string, size_t>> member_origin;  // parallel to set_index entries
+  int64_t set_entries = 0;
+  // The keyword block in force: *INCLUDE splices a file in place, so data lines of an included
+  // file continue the block of the including one (and vice versa).
+  enum class Block { kNone, kNode, kNset, kNsetGenerate, kSkip } block = Block::kNone;
+  size_t current_set = 0;
+  bool node_has_set = false;
 };
 
 size_t SetFor(DeckState& st, const std::string& name, const std::string& file, size_t line) {
@@ -64,8 +74,15 @@ size_t SetFor(DeckState& st, const std::string& name, const std::string& file, s
   return st.set_index[upper] = st.model->node_sets.size() - 1;
 }
 
-void AddToSet(DeckState& st, size_t set, int64_t node) {
-  if (st.set_members[set].insert(node).second) st.model->node_sets[set].nodes.push_back(node);
+void AddToSet(DeckState& st, size_t set, int64_t node, const std::string& file, size_t line) {
+  if (st.set_members[set].insert(node).second) {
+    st.model->node_sets[set].nodes.push_back(node);
+    if (++st.set_entries > kMaxSetEntries) {
+      Fail(file, line,
+           "node sets hold more than " + std::to_string(kMaxSetEntries) +
+               " entries in total (limit of this reader)");
+    }
+  }
 }
 
 void ReadDeck(const std::string& path, DeckState& st, int depth) {
@@ -74,9 +91,10 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
                       " levels (a file including itself?)");
   }
   const std::string text = fe_text::ReadWholeFile(path, "Abaqus/CalculiX input deck (.inp)");
-  enum class Block { kNone, kNode, kNset, kNsetGenerate, kSkip } block = Block::kNone;
-  size_t current_set = 0;
-  bool node_has_set = false;
+  using Block = DeckState::Block;
+  Block& block = st.block;
+  size_t& current_set = st.current_set;
+  bool& node_has_set = st.node_has_set;
   size_t pos = 0, number = 0;
   std::string_view line;
   std::vector<std::string_view> tokens;
@@ -86,7 +104,7 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
     if (t.empty() || t.rfind("**", 0) == 0) continue;
     if (t.front() == '*') {
       const Keyword k = ParseKeyword(t);
-      block = Block::kSkip;
+      if (k.name != "INCLUDE") block = Block::kSkip;
       if (k.name == "INCLUDE") {
         const auto it = k.params.find("INPUT");
         if (it == k.params.end() || it->second.empty()) {
@@ -94,13 +112,21 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
         }
         std::filesystem::path inc(it->second);
         if (inc.is_relative()) inc = std::filesystem::path(path).parent_path() / inc;
-        ReadDeck(inc.string(), st, depth + 1);
+        try {
+          ReadDeck(inc.string(), st, depth + 1);
+        } catch (const FeReadError& e) {
+          throw FeReadError(std::string(e.what()) + " (included from " + path + ":" +
+                            std::to_string(number) + ")");
+        }
       } else if (k.name == "NODE") {
         const auto sys = k.params.find("SYSTEM");
         if (sys != k.params.end() && fe_text::Upper(sys->second) != "R") {
           Fail(path, number,
                "*NODE, SYSTEM=" + sys->second +
                    " is not supported: expected rectangular coordinates (SYSTEM=R or none)");
+        }
+        if (k.params.count("INPUT")) {
+          Fail(path, number, "*NODE, INPUT=<file> is not supported: use *INCLUDE, INPUT=<file>");
         }
         block = Block::kNode;
         const auto nset = k.params.find("NSET");
@@ -109,6 +135,10 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
       } else if (k.name == "NSET") {
         const auto nset = k.params.find("NSET");
         if (nset == k.params.end()) Fail(path, number, "*NSET without NSET=<name>");
+        if (k.params.count("ELSET")) {
+          Fail(path, number,
+               "*NSET, ELSET=... (nodes of an element set) is not supported: list the nodes");
+        }
         current_set = SetFor(st, nset->second, path, number);
         block = k.params.count("GENERATE") ? Block::kNsetGenerate : Block::kNset;
       }
@@ -132,7 +162,7 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
         Fail(path, number, "node " + std::to_string(node.id) + " defined twice");
       }
       st.model->nodes.push_back(node);
-      if (node_has_set) AddToSet(st, current_set, node.id);
+      if (node_has_set) AddToSet(st, current_set, node.id, path, number);
     } else if (block == Block::kNsetGenerate) {
       if (tokens.size() < 2 || tokens.size() > 3) {
         Fail(path, number,
@@ -143,18 +173,24 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
       const int64_t last = fe_text::RequireInt(tokens[1], path, number, "the last node id");
       const int64_t step =
           tokens.size() == 3 ? fe_text::RequireInt(tokens[2], path, number, "the increment") : 1;
-      if (first <= 0 || last < first || step <= 0 || (last - first) / step > 100'000'000) {
+      if (first <= 0 || last < first || step <= 0) {
         Fail(path, number,
              "expected 0 < first <= last and increment > 0 under *NSET, GENERATE, got " +
                  fe_text::Printable(t));
       }
-      for (int64_t n = first; n <= last; n += step) AddToSet(st, current_set, n);
+      const int64_t count = (last - first) / step + 1;  // no overflow: 0 < first <= last
+      if (count > kMaxGenerateLine) {
+        Fail(path, number,
+             "*NSET, GENERATE range of " + std::to_string(count) + " nodes exceeds the limit of " +
+                 std::to_string(kMaxGenerateLine) + " per line");
+      }
+      for (int64_t k = 0; k < count; ++k) AddToSet(st, current_set, first + k * step, path, number);
     } else {  // kNset: node ids or names of sets defined before
       for (const std::string_view tok : tokens) {
         int64_t id = 0;
         if (fe_text::ParseInt(tok, id)) {
           if (id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(id));
-          AddToSet(st, current_set, id);
+          AddToSet(st, current_set, id, path, number);
           continue;
         }
         const auto it = st.set_index.find(fe_text::Upper(tok));
@@ -164,7 +200,7 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
                    fe_text::Printable(tok));
         }
         const std::vector<int64_t> members = st.model->node_sets[it->second].nodes;
-        for (const int64_t n : members) AddToSet(st, current_set, n);
+        for (const int64_t n : members) AddToSet(st, current_set, n, path, number);
       }
     }
   }

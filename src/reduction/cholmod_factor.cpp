@@ -141,7 +141,8 @@ bool SymShiftInvertCholmodOp::set_shift(double sigma, std::string* error) {
 }
 
 void SymShiftInvertCholmodOp::apply_b(const double* x, double* y) const {
-  Eigen::Map<Eigen::VectorXd>(y, rows()) = m_ * Eigen::Map<const Eigen::VectorXd>(x, rows());
+  Eigen::Map<Eigen::VectorXd>(y, rows()).noalias() =
+      m_lower_.selfadjointView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(x, rows());
 }
 
 void SymShiftInvertCholmodOp::perform_op_bx(const double* bx, double* y) {

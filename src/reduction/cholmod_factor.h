@@ -43,7 +43,7 @@ class SymShiftInvertCholmodOp {
  public:
   SymShiftInvertCholmodOp(const Eigen::SparseMatrix<double>& k,
                           const Eigen::SparseMatrix<double>& m)
-      : k_(k), m_(m) {}
+      : k_(k), m_(m), m_lower_(m.triangularView<Eigen::Lower>()) {}
   int rows() const { return static_cast<int>(k_.rows()); }
   // Factorises K - sigma M; false (with a message) if it is not positive definite.
   bool set_shift(double sigma, std::string* error);
@@ -59,6 +59,7 @@ class SymShiftInvertCholmodOp {
   CholmodFactor& factor() { return external_ ? *external_ : own_; }
   const Eigen::SparseMatrix<double>& k_;
   const Eigen::SparseMatrix<double>& m_;
+  Eigen::SparseMatrix<double> m_lower_;  // M x through one triangle: half the memory traffic
   CholmodFactor own_;
   CholmodFactor* external_ = nullptr;
   double sigma_ = 0.0;

@@ -182,6 +182,16 @@ StaticCheckResult CompareStaticBodyLoad(const Eigen::SparseMatrix<double>& k,
     diff = std::max(diff, std::abs(ur(i) - full));
     scale = std::max(scale, std::abs(full));
   }
+  Eigen::VectorXd ui = Eigen::VectorXd::Zero(fi.size());
+  if (red.constraint_modes.size()) ui += red.constraint_modes * ur.head(nb);
+  if (nq > 0) ui += red.normal_modes * ur.tail(nq);
+  double idiff = 0.0, iscale = 0.0;
+  for (Eigen::Index i = 0; i < fi.size(); ++i) {
+    const double full = u(red.interior_dofs[static_cast<size_t>(i)]);
+    idiff = std::max(idiff, std::abs(ui(i) - full));
+    iscale = std::max(iscale, std::abs(full));
+  }
+  out.interior_rel_error = iscale > 0 ? idiff / iscale : idiff;
   out.solved = true;
   out.max_displacement = scale;
   out.rel_error = scale > 0 ? diff / scale : diff;
