@@ -17,6 +17,7 @@
 
 #include "arpack_eigs.h"
 #include "cholmod_factor.h"
+#include "dense_modes.h"
 #include "fricrom/reduction.h"
 
 namespace fricrom {
@@ -101,38 +102,10 @@ struct Modes {
   Eigen::MatrixXd phi;
 };
 
-// All finite eigenpairs (ascending) of K phi = lambda M phi through the factor K - sigma M = L L^T:
-// L^-1 M L^-T y = nu y, lambda = sigma + 1/nu, phi = L^-T y / sqrt(nu). False if not factorable.
 bool DenseModes(const Eigen::SparseMatrix<double>& k, const Eigen::SparseMatrix<double>& m,
                 double sigma, Modes* out, std::string* error) {
-  const Eigen::MatrixXd kd = Eigen::MatrixXd(k), md = Eigen::MatrixXd(m);
-  Eigen::LLT<Eigen::MatrixXd> llt(kd - sigma * md);
-  if (llt.info() != Eigen::Success) {
-    *error = "K_ii - shift * M_ii not positive definite (dense Cholesky)";
-    return false;
-  }
-  const auto l = llt.matrixL();
-  Eigen::MatrixXd c = l.solve(md);
-  c = l.solve(c.transpose()).eval();
-  c = 0.5 * (c + c.transpose()).eval();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(c);
-  if (es.info() != Eigen::Success) {
-    *error = "dense symmetric eigensolver failed";
-    return false;
-  }
-  const Eigen::VectorXd nu = es.eigenvalues();  // ascending nu = descending lambda
-  const double nu_max = nu.size() ? nu.maxCoeff() : 0.0;
-  int count = 0;
-  for (Eigen::Index j = 0; j < nu.size(); ++j) count += nu(j) > 1e-13 * nu_max ? 1 : 0;
-  out->lambda.resize(count);
-  out->phi.resize(k.rows(), count);
-  const Eigen::Index n = nu.size();
-  for (int j = 0; j < count; ++j) {
-    const Eigen::Index src = n - 1 - j;
-    out->lambda(j) = sigma + 1.0 / nu(src);
-    out->phi.col(j) = l.transpose().solve(es.eigenvectors().col(src)) / std::sqrt(nu(src));
-  }
-  return true;
+  return reduction_detail::DenseLowestModes(k, m, sigma, static_cast<int>(k.rows()), &out->lambda,
+                                            &out->phi, error);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "arpack_eigs.h"
 #include "cholmod_factor.h"
+#include "dense_modes.h"
 #include "fricrom/reduction.h"
 
 namespace fricrom {
@@ -30,31 +31,6 @@ double MaxAbsDiag(const Eigen::SparseMatrix<double>& a) {
 
 double MaxAbs(const Eigen::MatrixXd& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
 
-// Lowest `count` eigenpairs densely through the Cholesky factor of K - sigma M.
-bool DenseLowest(const Eigen::SparseMatrix<double>& k, const Eigen::SparseMatrix<double>& m,
-                 double sigma, int count, ModalSolveResult* r) {
-  const Eigen::MatrixXd kd = Eigen::MatrixXd(k), md = Eigen::MatrixXd(m);
-  Eigen::LLT<Eigen::MatrixXd> llt(kd - sigma * md);
-  if (llt.info() != Eigen::Success) return false;
-  const auto l = llt.matrixL();
-  Eigen::MatrixXd c = l.solve(md);
-  c = l.solve(c.transpose()).eval();
-  c = 0.5 * (c + c.transpose()).eval();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(c);
-  const Eigen::Index n = es.eigenvalues().size();
-  const double nu_max = n ? es.eigenvalues().maxCoeff() : 0.0;
-  int finite = 0;
-  for (Eigen::Index j = 0; j < n; ++j) finite += es.eigenvalues()(j) > 1e-13 * nu_max ? 1 : 0;
-  count = std::min(count, finite);
-  r->lambda.resize(count);
-  r->modes.resize(k.rows(), count);
-  for (int j = 0; j < count; ++j) {
-    const double nu = es.eigenvalues()(n - 1 - j);
-    r->lambda(j) = sigma + 1.0 / nu;
-    r->modes.col(j) = l.transpose().solve(es.eigenvectors().col(n - 1 - j)) / std::sqrt(nu);
-  }
-  return true;
-}
 
 }  // namespace
 
@@ -110,7 +86,8 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
   for (const double sigma : shifts) {
     r.shift_used = sigma;
     if (dense) {
-      if (DenseLowest(stiffness, mass, sigma, count, &r)) {
+      if (reduction_detail::DenseLowestModes(stiffness, mass, sigma, count, &r.lambda, &r.modes,
+                                             nullptr)) {
         return finish(ModalSolveStatus::kSuccess, "dense eigensolver");
       }
       continue;

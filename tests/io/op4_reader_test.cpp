@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fricrom/fe_model.h"
+#include "io/io_test_util.h"
 
 namespace fricrom {
 namespace {
@@ -35,30 +36,7 @@ std::string ReadBytes(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "fricrom-op4-test-XXXXXX").string();
-    if (mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string Write(const std::string& name, const std::string& bytes) const {
-    const std::string p = (path_ / name).string();
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
+using TempDir = fricrom::testing::ScratchDir;
 
 Eigen::MatrixXd Re(const FeMatrix& m) { return Eigen::MatrixXd(m.real); }
 Eigen::MatrixXd Im(const FeMatrix& m) {
