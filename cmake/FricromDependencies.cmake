@@ -59,8 +59,4 @@ if(FRICROM_BUILD_BENCHMARKS)
 endif()
 
 set(FRICROM_WARNINGS -Wall -Wextra -Wpedantic)
-
-# OpenMP: Eigen's dense and row-major sparse products in the Craig-Bampton reduction use all cores.
-find_package(OpenMP QUIET COMPONENTS CXX)
-fricrom_require(OpenMP_CXX_FOUND "OpenMP (C++)" libgomp1)
 find_package(Threads REQUIRED)  # reading large FE files on two threads

@@ -147,7 +147,9 @@ struct ReduceCommands::State {
       throw CLI::ValidationError("--to", "expected an HDF5 output OUT.h5, got '" + to + "'");
     }
     Progress("reading " + model_path);
+    const auto t_read = Clock::now();
     const FeModel model = ReadFe(model_path);
+    const double read_s = std::chrono::duration<double>(Clock::now() - t_read).count();
     const FeMatrix& k = PickMatrix(model, stiffness_name, {"STIFFNESS", "KAAX", "KXX", "K"}, "--stiffness", model_path);
     const FeMatrix& m = PickMatrix(model, mass_name, {"MASS", "MAAX", "MXX", "M"}, "--mass", model_path);
     if (k.rows != m.rows || k.row_dofs != m.row_dofs) {
@@ -187,7 +189,11 @@ struct ReduceCommands::State {
                 {"cutoff_hz", cutoff_hz}, {"units", "SI (m, kg, s, N); frequencies in Hz"}};
     out["fixed_interface_hz"] = summary.frequencies_hz;
     out["checks"] = ChecksJson(summary.checks, check_tolerance);
-    json timings = {{"factor_s", summary.factor_s}, {"constraint_modes_s", summary.constraint_modes_s},
+    out["eigen"] = {{"tolerance", opt.eigen_tolerance}, {"batches", summary.eigen_batches},
+                    {"restarts", summary.eigen_restarts},
+                    {"operator_applications", summary.operator_applications},
+                    {"dense", summary.dense_eigensolver}};
+    json timings = {{"read_s", read_s}, {"factor_s", summary.factor_s}, {"constraint_modes_s", summary.constraint_modes_s},
                     {"eigen_s", summary.eigen_s}, {"assembly_s", summary.assembly_s},
                     {"reduction_s", summary.wall_s}};
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -26,6 +27,9 @@ EigsResult ShiftInvertEigs(SymShiftInvertCholmodOp& op, int nev, double tol, int
     out.message = "ARPACK needs 1 <= nev <= n - 2";
     return out;
   }
+  // ARPACK replaces tol <= 0 by machine precision only inside its first call; the value is passed
+  // by value on every call, so later convergence tests would use 0 (about twice the solves).
+  if (!(tol > 0)) tol = std::numeric_limits<double>::epsilon();
   const int ncv = std::min(n, std::max(2 * nev + 1, 20));
   const int lworkl = ncv * (ncv + 8);
   std::vector<double> resid(static_cast<size_t>(n)), v(static_cast<size_t>(n) * ncv),
