@@ -93,6 +93,9 @@ struct FeCommands::State {
       json mats = json::array();
       for (const FeMatrix& mat : m.matrices) mats.push_back(MatrixInfo(mat));
       j["matrices"] = mats;
+      json sets = json::object();
+      for (const NodeSet& set : m.node_sets) sets[set.name] = set.nodes.size();
+      j["node_sets"] = sets;
       all.push_back(j);
     }
     if (as_json) {
@@ -106,6 +109,11 @@ struct FeCommands::State {
                         ? ", superelement DOF order (EXTRN) of " + j["external_dofs"].dump() + " DOFs"
                         : "")
                 << "\n";
+      if (!j["node_sets"].empty()) {
+        std::cout << "  node sets:";
+        for (const auto& [name, count] : j["node_sets"].items()) std::cout << " " << name << " (" << count << ")";
+        std::cout << "\n";
+      }
       for (const json& m : j["matrices"]) {
         std::cout << "  " << m["name"].get<std::string>() << ": " << m["rows"] << " x " << m["cols"]
                   << ", nnz " << m["nnz"] << ", " << m["type"].get<std::string>()

@@ -80,6 +80,16 @@ TEST(ReduceCli, BladeSectorByCutoffPrintsTheIssueKeysAndWritesTheModel) {
   EXPECT_EQ(Dims(out, "boundary/sets/EXCITATION"), (std::vector<hsize_t>{1}));
 }
 
+TEST(ReduceCli, InfoListsTheNodeSetsOfTheDeck) {
+  const CliRun r = Stdout("info " + Quote(kBlade) + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  EXPECT_EQ(j.at("node_sets").at("CONTACT_LEFT"), 27);
+  EXPECT_EQ(j.at("node_sets").at("CONTACT_RIGHT"), 27);
+  EXPECT_EQ(j.at("node_sets").at("EXCITATION"), 1);
+  EXPECT_EQ(j.at("node_sets").at("ROOT"), 57);
+}
+
 TEST(ReduceCli, FreeFreeDamperPassesTheRigidBodyChecks) {
   TempDir tmp;
   const CliRun r = Stdout("reduce " + Quote(kDamper) +
