@@ -60,3 +60,5 @@ endif()
 
 set(FRICROM_WARNINGS -Wall -Wextra -Wpedantic)
 find_package(Threads REQUIRED)  # reading large FE files on two threads
+pkg_check_modules(BLAS QUIET IMPORTED_TARGET blas)  # dgemm for the reduction's tall products
+fricrom_require(BLAS_FOUND "BLAS (blas.pc)" libblas-dev)

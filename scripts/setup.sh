@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config git bc
   libeigen3-dev            # dense/sparse linear algebra (public headers)
   libsuitesparse-dev       # CHOLMOD (Craig-Bampton factorisation)
+  libblas-dev              # dgemm for the reduction (blas.pc; OpenBLAS provides it at run time)
   libarpack2-dev           # arpack-ng (shift-invert modes)
   libfftw3-dev             # AFT transforms
   coinor-libipopt-dev      # bounds NLP

@@ -17,6 +17,7 @@
 
 #include "arpack_eigs.h"
 #include "cholmod_factor.h"
+#include "blas_gemm.h"
 #include "dense_modes.h"
 #include "fricrom/reduction.h"
 
@@ -343,11 +344,7 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
   const Eigen::MatrixXd& phi = out.normal_modes;
   // K_ib and M_ib stay sparse (a few boundary columns): every product with them is cheap; the
   // dense work is M_ii Psi and the Psi^T (M_ii Psi) product (lower triangle only).
-  auto sym_lower_product = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(a.cols(), b.cols());
-    c.triangularView<Eigen::Lower>() = a.transpose() * b;
-    return Eigen::MatrixXd(c.selfadjointView<Eigen::Lower>());
-  };
+  using reduction_detail::TransposeTimes;
   double kbq = 0.0;
   Eigen::MatrixXd kii_phi;
   {
@@ -356,10 +353,10 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
     Eigen::MatrixXd& r = out.stiffness;
     r.resize(nb + nq, nb + nq);
     r.topLeftCorner(nb, nb) = kb.bb + kb.ib.transpose() * psi;
-    const Eigen::MatrixXd kbq_block = kb.ib.transpose() * phi + psi.transpose() * kii_phi;
+    const Eigen::MatrixXd kbq_block = kb.ib.transpose() * phi + TransposeTimes(psi, kii_phi);
     r.topRightCorner(nb, nq) = kbq_block;
     r.bottomLeftCorner(nq, nb) = kbq_block.transpose();
-    r.bottomRightCorner(nq, nq) = phi.transpose() * kii_phi;
+    r.bottomRightCorner(nq, nq) = TransposeTimes(phi, kii_phi);
     kbq = MaxAbs(kbq_block);
   }
   {
@@ -368,12 +365,12 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
     Eigen::MatrixXd& r = out.mass;
     r.resize(nb + nq, nb + nq);
     r.topLeftCorner(nb, nb) = mb.bb + mib_t_psi + mib_t_psi.transpose() +
-                              (nb > 0 && ni > 0 ? sym_lower_product(psi, mii_psi)
+                              (nb > 0 && ni > 0 ? TransposeTimes(psi, mii_psi)
                                                 : Eigen::MatrixXd::Zero(nb, nb));
-    const Eigen::MatrixXd mbq = mb.ib.transpose() * phi + psi.transpose() * mii_phi;
+    const Eigen::MatrixXd mbq = mb.ib.transpose() * phi + TransposeTimes(psi, mii_phi);
     r.topRightCorner(nb, nq) = mbq;
     r.bottomLeftCorner(nq, nb) = mbq.transpose();
-    r.bottomRightCorner(nq, nq) = phi.transpose() * mii_phi;
+    r.bottomRightCorner(nq, nq) = TransposeTimes(phi, mii_phi);
   }
   CraigBamptonChecks& ch = s.checks;
   const double kmax = MaxAbs(out.stiffness), mmax = MaxAbs(out.mass);
