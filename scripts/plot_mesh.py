@@ -3,8 +3,8 @@
 
 Usage:
     /usr/bin/python3 scripts/plot_mesh.py [--blade DECK] [--damper DECK] [--out OUT.png]
-Reads the nodes and *NSET node sets of the CalculiX mesh decks (meshes/*/coarse/*_mesh.inp,
-following *INCLUDE is not needed there) and draws the nodes in 3-D, the contact, excitation and
+Reads the nodes and *NSET node sets of the CalculiX mesh decks (meshes/*/coarse/*_mesh.inp) with
+scripts/fix_gmsh_inp.py's reader and draws the nodes in 3-D, the contact, excitation and
 response sets highlighted. Needs python3-matplotlib and python3-numpy.
 """
 
@@ -16,48 +16,17 @@ sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fricrom_plot_common as common  # noqa: E402  (checks numpy, matplotlib, h5py first)
 from fricrom_plot_common import InputError, np, plt  # noqa: E402
+from fix_gmsh_inp import read_gmsh_inp  # noqa: E402  (the mesh-deck reader of make_meshes.sh)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def read_deck(path):
-    """Nodes {id: (x, y, z)} and node sets {NAME: [ids]} of a mesh deck (*NODE, *NSET, GENERATE)."""
+    """Nodes {id: (x, y, z)} and node sets {NAME: [ids]} of a cleaned mesh deck (*_mesh.inp)."""
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file (regenerate with: bash scripts/make_meshes.sh)")
-    nodes, sets = {}, {}
-    block, current, generate = None, None, False
-    with open(path) as f:
-        for number, line in enumerate(f, 1):
-            t = line.strip()
-            if not t or t.startswith("**"):
-                continue
-            if t.startswith("*"):
-                parts = [p.strip() for p in t[1:].split(",")]
-                key = parts[0].upper()
-                params = {p.split("=")[0].strip().upper(): (p.split("=", 1)[1].strip() if "=" in p else "")
-                          for p in parts[1:]}
-                block = key if key in ("NODE", "NSET") else None
-                generate = "GENERATE" in params
-                current = params.get("NSET", "").upper() or None
-                if current:
-                    sets.setdefault(current, [])
-                continue
-            fields = [x for x in t.replace(",", " ").split() if x]
-            try:
-                if block == "NODE":
-                    nodes[int(fields[0])] = tuple(float(v) for v in (fields[1:] + ["0", "0"])[:3])
-                    if current:
-                        sets[current].append(int(fields[0]))
-                elif block == "NSET" and generate:
-                    a, b = int(fields[0]), int(fields[1])
-                    step = int(fields[2]) if len(fields) > 2 else 1
-                    sets[current].extend(range(a, b + 1, step))
-                elif block == "NSET":
-                    for v in fields:
-                        sets[current].extend(sets[v.upper()] if not v.lstrip("-").isdigit() else [int(v)])
-            except (ValueError, IndexError, KeyError) as e:
-                raise InputError(f"{path}:{number}: cannot read {t!r} ({e})")
-    return nodes, sets
+    nodes, _blocks, _elsets, nsets = read_gmsh_inp(path)  # exits with a message on bad input
+    return {i: xyz for i, _text, xyz in nodes}, nsets
 
 
 def main():
