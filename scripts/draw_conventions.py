@@ -21,11 +21,10 @@ Conventions drawn (they must match src/model/case_file.cpp and docs/theory.md):
 
 import os
 import sys
-import tempfile
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import fricrom_plot_common  # noqa: E402,F401  (checks numpy and matplotlib first, exit 2 if missing)
+import fricrom_plot_common  # noqa: E402  (checks numpy and matplotlib first, exit 2 if missing)
 from fricrom_plot_common import np, plt  # noqa: E402
 from matplotlib.patches import Arc, FancyArrowPatch, Polygon, Rectangle  # noqa: E402
 
@@ -304,23 +303,9 @@ def main(argv):
     panel_system(fig.add_subplot(gs[0, 0]))
     panel_closeup(fig.add_subplot(gs[0, 1]))
 
-    directory = os.path.dirname(os.path.abspath(out))
-    os.makedirs(directory, exist_ok=True)
-    ext = os.path.splitext(out)[1] or ".png"
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(out) + ".", suffix=ext, dir=directory)
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=150, format=ext[1:])
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, out)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    if os.path.splitext(out)[1].lower() not in fricrom_plot_common.SUPPORTED_EXTENSIONS:
+        out += ".png"
+    fricrom_plot_common.save_figure(fig, out)
     plt.close(fig)
     print(f"draw_conventions.py: wrote {out}")
     return 0

@@ -10,7 +10,9 @@ missing Debian package, so the scripts import it before anything else.
 
 import os
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from atomic_write import replace_atomically, write_text_atomically  # noqa: E402,F401
 
 # Debian's packages, for /usr/bin/python3; a missing one stops the calling script with exit 2.
 _MISSING = []
@@ -150,6 +152,16 @@ def same_length(h5, group, names, arrays):
                 f"'/{group}/{names[0]}' has {n}")
 
 
+def full_stick_scale(lin, normalise):
+    """Divisor of the response curves: the full-stick peak with --normalise, else 1."""
+    if not normalise:
+        return 1.0
+    stick = lin["stick"][np.isfinite(lin["stick"])]
+    if stick.size == 0 or not np.max(stick) > 0.0:
+        raise InputError("--normalise: the full-stick curve has no positive finite maximum")
+    return float(np.max(stick))
+
+
 def check_output(out):
     if os.path.splitext(out)[1].lower() not in SUPPORTED_EXTENSIONS:
         raise InputError(f"output '{out}' must end in .png or .svg")
@@ -159,29 +171,10 @@ def footer(fig, version):
     fig.text(0.995, 0.005, f"fricrom {version}", ha="right", va="bottom", fontsize=7, color="0.5")
 
 
-def _replace_atomically(out, suffix, write):
-    directory = os.path.dirname(os.path.abspath(out))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(out) + ".", suffix=suffix, dir=directory)
-    os.close(fd)
-    try:
-        write(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, out)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
 def save_figure(fig, out):
     """Saves `fig` to `out` (.png/.svg) at DPI through a temporary file in the same directory."""
     ext = os.path.splitext(out)[1].lower()
-    _replace_atomically(out, ext, lambda tmp: fig.savefig(tmp, dpi=DPI, format=ext[1:]))
+    replace_atomically(out, ext, lambda tmp: fig.savefig(tmp, dpi=DPI, format=ext[1:]))
 
 
 def run(script, work):

@@ -39,11 +39,14 @@ try:
     import math
     import os
     import re
-    import tempfile
 except ImportError as e:  # pragma: no cover - standard library
     sys.stderr.write(f"make_report.py: error: {e}; install the Debian package python3 "
                      "(libpython3-stdlib) and run with /usr/bin/python3\n")
     sys.exit(2)
+
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from atomic_write import write_text_atomically  # noqa: E402  (standard library only)
 
 SCRIPT = "make_report.py"
 
@@ -645,25 +648,6 @@ def section_timings(data, notes):
 
 
 # -------------------------------------------------------------------------------------- main
-def write_atomically(path, text):
-    directory = os.path.dirname(os.path.abspath(path))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
 def build_report(args):
     report_dir = os.path.dirname(os.path.abspath(args.out))
     figs = Figures(args.figures_dir, report_dir)
@@ -747,7 +731,7 @@ def main(argv=None):
         return 2
     text, summaries = build_report(args)
     try:
-        write_atomically(args.out, text)
+        write_text_atomically(args.out, text)
     except OSError as e:
         sys.stderr.write(f"{SCRIPT}: error: cannot write '{args.out}': {e}\n")
         return 2

@@ -80,12 +80,7 @@ def read_results(path):
 
 def make_figure(res, normalise):
     lin = res["linear"]
-    scale = 1.0
-    if normalise:
-        stick = lin["stick"][np.isfinite(lin["stick"])]
-        if stick.size == 0 or not np.max(stick) > 0.0:
-            raise InputError("--normalise: the full-stick curve has no positive finite maximum")
-        scale = float(np.max(stick))
+    scale = common.full_stick_scale(lin, normalise)
 
     fig, ax = plt.subplots(figsize=(8.0, 5.0))
     colours = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0"])

@@ -81,7 +81,7 @@ def main():
         w.writeheader()
         w.writerows(rows)
         csv_out = os.path.splitext(args.out)[0] + ".csv"
-        common._replace_atomically(csv_out, ".csv", lambda t: open(t, "w").write(buf.getvalue()))
+        common.write_text_atomically(csv_out, buf.getvalue())
 
         fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
         q = np.array([r["modes"] for r in rows])
