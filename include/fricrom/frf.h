@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,8 @@ struct FrfPoint {
   SolverStatus status = SolverStatus::kMaxIterations;
   std::string message;
   int iterations = 0;
-  double amplitude = 0.0;  // first-harmonic amplitude of the response DOF [m]
+  // First-harmonic amplitude of the response DOF [m]; NaN unless the point converged.
+  double amplitude = std::numeric_limits<double>::quiet_NaN();
   std::vector<ContactRegime> regimes;
   bool turning_point_before = false;
 };
@@ -43,10 +45,13 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
                                          const FrfOptions& options,
                                          const FrfProgress& progress = {});
 
-// Solves R(x; ω, α) = 0 at one frequency. Starts: `x_start` (if non-empty), the full-stick
-// linear solution, then a homotopy in α: the solution at α = 0 is continued along
-// α(λ) = λ·α_target, λ: 0 → 1 (the residual has kinks in full stick and at |α| = 1, where plain
-// Newton from a linear guess fails on a sizeable share of α). The point reports its status.
+// Solves R(x; ω, α) = 0 at one frequency with the same globalisation as sweeps and bounds.
+// Starts: `x_start` (if non-empty), the full-stick linear solution; then a homotopy in α (the
+// solution at α = 0 continued along α(λ) = λ·α_target, λ: 0 → 1: the residual has kinks in full
+// stick and at |α| = 1, where plain Newton from a linear guess fails on a sizeable share of α);
+// then continuation in frequency from nearby frequencies (0.95 f, 1.05 f, ... 0.5 f) (a cold start
+// at resonance fails where the branch followed from off-resonance succeeds). The point reports its
+// status; a failed point keeps the last Newton iterate in x and has a NaN amplitude.
 FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
                           const Eigen::VectorXd& x_start, const FrfOptions& options);
 

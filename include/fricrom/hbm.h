@@ -1,6 +1,7 @@
 // Harmonic balance (paper Eq. 2/9) with the alternating frequency/time scheme on FFTW.
 // Unknowns x are real Fourier coefficients ordered harmonic-major,
-//   x = [q̂0 (n) | a1 (n) | b1 (n) | ... | aH (n) | bH (n)],  q(t) = q̂0 + Σ a_h cos hωt + b_h sin hωt,
+//   x = [q̂0 (n) | a1 (n) | b1 (n) | ... | aH (n) | bH (n)],  q(t) = q̂0 + Σ a_h cos hωt + b_h sin
+//   hωt,
 // so the linear part is block-diagonal per harmonic (what condensation onto contact DOFs needs).
 #pragma once
 
@@ -15,10 +16,14 @@
 namespace fricrom {
 
 struct HbmOptions {
-  int harmonics = 1;             // H: harmonics 0..H are balanced
+  int harmonics = 1;             // H >= 1: harmonics 0..H are balanced
   int samples_per_period = 128;  // AFT time samples N (must exceed 2H)
   bool IsValid(std::string* error) const;
 };
+
+// False (with a message) when a load of `model` sits at a harmonic outside 0..harmonics: such a
+// load cannot be represented and is an input error, never silently dropped.
+bool LoadsRepresentable(const Model& model, int harmonics, std::string* error);
 
 // What an evaluation computes; the residual is always computed.
 struct HbmRequest {

@@ -14,7 +14,15 @@ Case CaseArgs::Load(const std::vector<ParameterOverride>& extra) const {
   if (samples >= 0) c.analysis.samples_per_period = samples;
   HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
   std::string error;
-  if (!ho.IsValid(&error)) throw CaseError("--harmonics/--samples: " + error);
+  if (!ho.IsValid(&error)) {
+    throw CaseError(path + ": " + (harmonics >= 0 ? "--harmonics/--samples" : "analysis") + ": " +
+                    error);
+  }
+  if (!LoadsRepresentable(c.model, ho.harmonics, &error)) {
+    throw CaseError(path + ": loads: " + error +
+                    (harmonics >= 0 ? " (--harmonics " : " (analysis.harmonics = ") +
+                    std::to_string(ho.harmonics) + ")");
+  }
   return c;
 }
 
@@ -22,10 +30,35 @@ void CaseArgs::Register(CLI::App* cmd) {
   cmd->add_option("case", path, "Case file (TOML)")->required();
   cmd->add_option("--set", sets, "Override a case parameter, e.g. --set gamma=0.2 (repeatable)");
   cmd->add_option("--harmonics", harmonics, "Harmonics H (default: the case's)")
-      ->check(CLI::Range(0, 200));
+      ->check(CLI::Range(1, 200));
   cmd->add_option("--samples", samples, "AFT time samples per period (default: the case's)")
       ->check(CLI::Range(4, 1 << 20));
 }
+
+namespace {
+CLI::Validator NumberAbove(double lower, bool inclusive, const std::string& what,
+                           const std::string& name) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0.0;
+        size_t used = 0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size() || !std::isfinite(v) ||
+            !(inclusive ? v >= lower : v > lower)) {
+          return "expected a finite number " + what + ", got '" + text + "'";
+        }
+        return "";
+      },
+      name);
+}
+}  // namespace
+
+CLI::Validator Positive() { return NumberAbove(0.0, false, "> 0", "POSITIVE"); }
+CLI::Validator NonNegative() { return NumberAbove(0.0, true, ">= 0", "NON-NEGATIVE"); }
 
 std::vector<double> ParseList(const std::string& text, const std::string& flag) {
   std::vector<double> out;
@@ -75,7 +108,8 @@ std::vector<std::vector<int>> ContactsByDamper(const Model& model) {
   return groups;
 }
 
-std::vector<bool> MixedConfiguration(const Model& model, const std::vector<ContactRegime>& regimes) {
+std::vector<bool> MixedConfiguration(const Model& model,
+                                     const std::vector<ContactRegime>& regimes) {
   std::vector<bool> mixed;
   for (const std::vector<int>& group : ContactsByDamper(model)) {
     bool stick = false, slip = false;

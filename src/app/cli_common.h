@@ -23,6 +23,10 @@ struct CaseArgs {
   void Register(CLI::App* cmd);
 };
 
+// "> 0 and finite" / ">= 0 and finite", with a short message (CLI11's own prints DBL_MAX in full).
+CLI::Validator Positive();
+CLI::Validator NonNegative();
+
 std::vector<double> ParseList(const std::string& text, const std::string& flag);
 std::string Version();
 void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command);

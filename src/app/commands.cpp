@@ -158,7 +158,12 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
       amp.push_back(points[i].amplitude);
       iters.push_back(points[i].iterations);
       status.push_back(ToString(points[i].status));
-      x.row(i) = points[i].x.transpose();
+      // A point that did not converge has no solution: NaN, not its last iterate.
+      if (points[i].status == SolverStatus::kConverged) {
+        x.row(i) = points[i].x.transpose();
+      } else {
+        x.row(i).setConstant(NAN);
+      }
       for (size_t k = 0; k < c.model.contacts.size(); ++k) {
         regimes.push_back(k < points[i].regimes.size() ? ToString(points[i].regimes[k]) : "unknown");
       }
@@ -241,16 +246,20 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     std::cout << "), H = " << c.analysis.harmonics << ", " << c.analysis.samples_per_period
               << " samples/period: " << points.size() << " points in " << std::setprecision(3)
               << wall << " s\n";
-    double peak = 0.0, fpeak = 0.0;
+    double peak = NAN, fpeak = NAN;
     for (const FrfPoint& p : points) {
-      if (p.status == SolverStatus::kConverged && p.amplitude > peak) {
+      if (p.status == SolverStatus::kConverged && !(p.amplitude <= peak)) {
         peak = p.amplitude;
         fpeak = p.freq_hz;
       }
     }
-    std::cout << "  peak amplitude of " << c.model.dof_names[c.model.response_dof] << ": "
-              << std::scientific << peak << " m at " << std::fixed << std::setprecision(2) << fpeak
-              << " Hz\n";
+    if (std::isnan(peak)) {
+      std::cout << "  no point converged: no peak amplitude\n";
+    } else {
+      std::cout << "  peak amplitude of " << c.model.dof_names[c.model.response_dof] << ": "
+                << std::scientific << peak << " m at " << std::fixed << std::setprecision(2)
+                << fpeak << " Hz\n";
+    }
     if (points.size() <= 20) {
       for (const FrfPoint& p : points) {
         std::cout << "  " << std::fixed << std::setprecision(3) << p.freq_hz << " Hz  "
@@ -299,7 +308,7 @@ int Run(int argc, char** argv) {
   frf->add_option("--freq", fa.freqs, "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
   frf->add_option("--out", fa.out, "Output directory (default results/<case name>)");
   frf->add_option("--max-step", fa.max_step, "Largest continuation step (scaled arclength)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   frf->add_flag("--json", fa.as_json, "Print one JSON object on stdout");
   frf->add_flag("--plot", fa.plot, "Draw the FRF figure (PNG) with the linear references");
   frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
@@ -318,7 +327,9 @@ int Run(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "fricrom: error: " << e.what() << "\nRun with --help for more information.\n";
+    return 2;
   }
   try {
     if (*modes) return RunModes(modes_args, modes_json);

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "optimise_bounds.h"
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
 
@@ -676,6 +677,14 @@ bool BoundsOptions::IsValid(std::string* error) const {
     *error = "BoundsOptions.objective must be kAmplitude or kLossFactor";
     return false;
   }
+  if (method != kFullSpace && method != kReducedSpace && method != kBoth) {
+    *error = "BoundsOptions.method must be kFullSpace, kReducedSpace or kBoth";
+    return false;
+  }
+  if (check_samples < 0) {
+    *error = "BoundsOptions.check_samples must be >= 0, got " + std::to_string(check_samples);
+    return false;
+  }
   for (size_t i = 0; i < alpha_seeds.size(); ++i) {
     const Eigen::VectorXd& a = alpha_seeds[i];
     if (a.size() != alpha_seeds[0].size()) {
@@ -717,6 +726,29 @@ std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts) {
   return seeds;
 }
 
+std::string ToString(BoundsOptions::Method method) {
+  switch (method) {
+    case BoundsOptions::kFullSpace:
+      return "ipopt";
+    case BoundsOptions::kReducedSpace:
+      return "reduced";
+    case BoundsOptions::kBoth:
+      return "both";
+  }
+  return "unknown";
+}
+
+bool FromString(const std::string& name, BoundsOptions::Method* method) {
+  for (BoundsOptions::Method m :
+       {BoundsOptions::kFullSpace, BoundsOptions::kReducedSpace, BoundsOptions::kBoth}) {
+    if (ToString(m) == name) {
+      *method = m;
+      return true;
+    }
+  }
+  return false;
+}
+
 std::string ToString(BoundStatus status) {
   switch (status) {
     case BoundStatus::kConverged:
@@ -756,23 +788,19 @@ std::string BoundsResult::BriefReport() const {
      << start_failures << " start failures, " << min_failures << " failed min runs, "
      << max_failures << " failed max runs, " << optimizer_runs
      << " optimiser runs (the others started at a KKT point); spread of the optimum over "
-     << "seeds: min " << spread_min << ", max " << spread_max;
+     << "seeds: min " << spread_min << ", max " << spread_max << "; sample check: "
+     << samples_checked << " samples (" << samples_failed << " failed), "
+     << improved_by_samples << " bounds improved";
   return os.str();
 }
 
-BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw std::invalid_argument(error);
-  if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
-    throw std::invalid_argument("ComputeBounds: freq_hz must be positive and finite, got " +
-                                std::to_string(freq_hz));
-  }
+BoundsResult OptimiseBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options,
+                            const std::vector<Eigen::VectorXd>& seeds) {
   const int nc = system.num_contacts();
-  const std::vector<Eigen::VectorXd> seeds =
-      options.alpha_seeds.empty() ? DefaultAlphaSeeds(nc) : options.alpha_seeds;
-  if (seeds[0].size() != nc) {
+  if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
-                                std::to_string(seeds[0].size()) + " entries, the system has " +
+                                std::to_string(seeds.empty() ? 0 : seeds[0].size()) +
+                                " entries, the system has " +
                                 std::to_string(nc) + " contacts");
   }
   const double omega = kTwoPi * freq_hz;
@@ -854,10 +882,19 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
       } else if (StartIsKktPoint(setup, x0, seeds[s], options.tolerance)) {
         accept_start("the start is already a KKT point (zero reduced gradient in alpha)");
       } else {
-        sol = options.method == BoundsOptions::kReducedSpace
-                  ? RunReduced(setup, x0, seeds[s], s, options.max_iterations, 1e-7)
-                  : Run(*app, nlp, &first_run, setup, x0, seeds[s], s);
-        ++result.optimizer_runs;
+        const bool reduced = options.method != BoundsOptions::kFullSpace;
+        const bool full = options.method != BoundsOptions::kReducedSpace;
+        if (reduced) sol = RunReduced(setup, x0, seeds[s], s, options.max_iterations, 1e-7);
+        if (full) {
+          BoundSolution other = Run(*app, nlp, &first_run, setup, x0, seeds[s], s);
+          const double sign = maximise_response ? 1.0 : -1.0;  // larger is better after the sign
+          if (!reduced || !sol.IsUsable() ||
+              (other.IsUsable() && sign * RankValue(other, options.objective) >
+                                       sign * RankValue(sol, options.objective))) {
+            sol = std::move(other);
+          }
+        }
+        result.optimizer_runs += (reduced ? 1 : 0) + (full ? 1 : 0);
       }
       BoundSolution& best = maximise_response ? result.max : result.min;
       bool& have = maximise_response ? have_max : have_min;
@@ -884,8 +921,12 @@ BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const Bounds
     }
     if (both) ++result.seeds_converged;
   }
-  result.spread_min = min_hi - min_lo;
-  result.spread_max = max_hi - max_lo;
+  result.spread_min = have_min ? min_hi - min_lo : std::numeric_limits<double>::quiet_NaN();
+  result.spread_max = have_max ? max_hi - max_lo : std::numeric_limits<double>::quiet_NaN();
+  for (BoundSolution* b : {&result.min, &result.max}) {
+    if (b->IsUsable()) continue;  // a failed bound is never a number
+    b->amplitude = b->loss_factor = std::numeric_limits<double>::quiet_NaN();
+  }
   return result;
 }
 

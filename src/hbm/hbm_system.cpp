@@ -20,14 +20,30 @@ std::mutex& PlannerMutex() {
 }  // namespace
 
 bool HbmOptions::IsValid(std::string* error) const {
-  if (harmonics < 0) {
-    *error = "harmonics must be >= 0, got " + std::to_string(harmonics);
+  // The response is the first-harmonic amplitude and the excitation is periodic: H = 0 (a static
+  // problem) cannot represent either.
+  if (harmonics < 1) {
+    *error = "harmonics must be >= 1 (the forced response is harmonic 1), got " +
+             std::to_string(harmonics);
     return false;
   }
   if (samples_per_period <= 2 * harmonics || samples_per_period < 4) {
     *error = "samples_per_period must be >= 4 and > 2*harmonics (" + std::to_string(2 * harmonics) +
              "), got " + std::to_string(samples_per_period);
     return false;
+  }
+  return true;
+}
+
+bool LoadsRepresentable(const Model& model, int harmonics, std::string* error) {
+  for (const HarmonicLoad& load : model.loads) {
+    if (load.harmonic < 0 || load.harmonic > harmonics) {
+      *error = "a load at harmonic " + std::to_string(load.harmonic) +
+               " cannot be represented with H = " + std::to_string(harmonics) +
+               " harmonics (raise H to at least " + std::to_string(load.harmonic) +
+               " or remove the load)";
+      return false;
+    }
   }
   return true;
 }
@@ -178,6 +194,9 @@ HbmSystem::HbmSystem(Model model, const HbmOptions& options)
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument("HbmOptions: " + error);
   model_.Validate();
+  if (!LoadsRepresentable(model_, options_.harmonics, &error)) {
+    throw std::invalid_argument("HbmSystem: " + error);
+  }
   work_ = std::make_unique<Workspace>(options_.samples_per_period, options_.harmonics);
 }
 
@@ -223,7 +242,6 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
     }
   }
   for (const HarmonicLoad& load : model_.loads) {
-    if (load.harmonic > options_.harmonics) continue;
     if (load.harmonic == 0) {
       r.segment(0, n) -= load.cos;
     } else {
@@ -306,7 +324,6 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
 double HbmSystem::ResidualScale() const {
   double s2 = 0.0;
   for (const HarmonicLoad& load : model_.loads) {
-    if (load.harmonic > options_.harmonics) continue;
     s2 += load.cos.squaredNorm() + load.sin.squaredNorm();
   }
   return s2 > 0.0 ? std::sqrt(s2) : 1.0;
@@ -349,7 +366,6 @@ Eigen::VectorXd HbmSystem::StickLinearSolution(double omega) const {
 
 double HbmSystem::Amplitude(const Eigen::VectorXd& x, int dof) const {
   if (dof < 0) dof = model_.response_dof;
-  if (options_.harmonics < 1) return 0.0;
   return std::hypot(x[Index(dof, 1)], x[Index(dof, 2)]);
 }
 

@@ -1,6 +1,7 @@
 #include <muParser.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <set>
@@ -173,6 +174,10 @@ ParameterOverride ParseOverride(const std::string& text) {
 }
 
 Case LoadCase(const std::string& path, const std::vector<ParameterOverride>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw CaseError(path + ": is a directory, expected a case file (TOML)");
+  }
   std::ifstream in(path);
   if (!in) throw CaseError(path + ": cannot open case file");
   std::ostringstream text;
@@ -442,8 +447,17 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha"});
     AnalysisSettings& a = cs.analysis;
     const double h = rd.Number(t, w, "harmonics");
-    if (h < 0 || h != std::floor(h) || h > 200) rd.Fail(w + ".harmonics", "expected an integer in [0, 200]", t.get("harmonics"));
+    if (h < 1 || h != std::floor(h) || h > 200) rd.Fail(w + ".harmonics", "expected an integer in [1, 200]", t.get("harmonics"));
     a.harmonics = static_cast<int>(h);
+    for (size_t i = 0; i < larr.size(); ++i) {  // a load H cannot represent is an error, not dropped
+      const int lh = static_cast<int>(rd.Number(*larr[i].as_table(), "loads", "harmonic"));
+      if (lh > a.harmonics) {
+        rd.Fail("loads[" + std::to_string(i) + "].harmonic",
+                "harmonic " + std::to_string(lh) + " exceeds analysis.harmonics = " +
+                    std::to_string(a.harmonics) + " (raise harmonics or remove the load)",
+                larr[i].as_table()->get("harmonic"));
+      }
+    }
     const double ns = rd.Number(t, w, "samples_per_period");
     if (ns != std::floor(ns) || ns <= 2 * h || ns < 4 || ns > 1 << 20) {
       rd.Fail(w + ".samples_per_period", "expected an integer >= 4 and > 2*harmonics", t.get("samples_per_period"));

@@ -1,8 +1,8 @@
+#include "fricrom/frf.h"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
-
-#include "fricrom/frf.h"
 
 namespace fricrom {
 namespace {
@@ -94,6 +94,73 @@ void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::Vect
 }
 double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
 
+namespace {
+
+// Follows the branch at fixed α from (f_from, x_from) to f_to by continuation in frequency and
+// polishes the end by Newton; true with *x the solution at f_to.
+bool ContinueInFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_from,
+                         const Eigen::VectorXd& x_from, double f_to, const FrfOptions& options,
+                         Eigen::VectorXd* x, int* iterations) {
+  HbmFrequencyFamily family(system, alpha);
+  const ContinuationOptions copt = MakeContinuationOptions(system, options, f_from, f_to, x_from);
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs = Continue(family, copt, x_from, [&](const ContinuationPoint& cp) {
+    x_end = cp.x;
+    return true;
+  });
+  *iterations += cs.evaluations;
+  if (cs.status != ContinuationStatus::kReachedEnd) return false;
+  *x = x_end;
+  const NewtonSummary ns =
+      SolveNewton(HbmAtFrequency(system, kTwoPi * f_to, alpha), options.newton, x);
+  *iterations += ns.iterations;
+  return ns.IsSolutionUsable();
+}
+
+// Homotopy in α: the solution at α = 0 (x0) continued along α(λ) = λ·α_target, λ: 0 → 1.
+bool ContinueInAlpha(const HbmSystem& system, const Eigen::VectorXd& alpha, double omega,
+                     const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
+                     int* iterations) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
+  HbmAlphaPath path(system, omega, zero, alpha);
+  ContinuationOptions c;
+  c.lambda_start = 0.0;
+  c.lambda_end = 1.0;
+  c.x_scale = std::max(x0.norm(), 1e-300);
+  c.initial_step = 0.05;
+  c.max_step = 0.2;
+  c.min_step = 1e-8;
+  c.max_points = 2000;
+  c.corrector = options.newton;
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {
+    x_end = cp.x;
+    return true;
+  });
+  *iterations += cs.evaluations;
+  if (cs.status != ContinuationStatus::kReachedEnd) return false;
+  *x = x_end;
+  const NewtonSummary ns = SolveNewton(HbmAtFrequency(system, omega, alpha), options.newton, x);
+  *iterations += ns.iterations;
+  return ns.IsSolutionUsable();
+}
+
+// Newton at (ω, α) from `starts` in order; true with *x the solution.
+bool NewtonFromStarts(const HbmSystem& system, const Eigen::VectorXd& alpha, double omega,
+                      const std::vector<Eigen::VectorXd>& starts, const FrfOptions& options,
+                      Eigen::VectorXd* x, int* iterations, NewtonSummary* last) {
+  const HbmAtFrequency at(system, omega, alpha);
+  for (const Eigen::VectorXd& s : starts) {
+    *x = s;
+    *last = SolveNewton(at, options.newton, x);
+    *iterations += last->iterations;
+    if (last->IsSolutionUsable()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
                           const Eigen::VectorXd& x_start, const FrfOptions& options) {
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
@@ -101,54 +168,49 @@ FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha,
                                 std::to_string(freq_hz));
   }
   const double omega = kTwoPi * freq_hz;
-  HbmAtFrequency at(system, omega, alpha);
   FrfPoint p;
   p.freq_hz = freq_hz;
   std::vector<Eigen::VectorXd> starts;
   if (x_start.size() > 0) starts.push_back(x_start);
   starts.push_back(system.StickLinearSolution(omega));
   NewtonSummary ns;
-  for (const Eigen::VectorXd& s : starts) {
-    p.x = s;
-    ns = SolveNewton(at, options.newton, &p.x);
-    p.iterations += ns.iterations;
-    if (ns.IsSolutionUsable()) break;
-  }
-  // Homotopy in α from α = 0, whose solution plain Newton finds reliably.
-  if (!ns.IsSolutionUsable() && alpha.size() > 0 && alpha.cwiseAbs().maxCoeff() > 0.0) {
-    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
-    Eigen::VectorXd x0 = starts.back();
-    HbmAtFrequency at0(system, omega, zero);
-    NewtonSummary s0 = SolveNewton(at0, options.newton, &x0);
-    p.iterations += s0.iterations;
-    if (s0.IsSolutionUsable()) {
-      HbmAlphaPath path(system, omega, zero, alpha);
-      ContinuationOptions c;
-      c.lambda_start = 0.0;
-      c.lambda_end = 1.0;
-      c.x_scale = std::max(x0.norm(), 1e-300);
-      c.initial_step = 0.05;
-      c.max_step = 0.2;
-      c.min_step = 1e-8;
-      c.max_points = 2000;
-      c.corrector = options.newton;
-      Eigen::VectorXd x_end;
-      double lambda_end = 0.0;
-      Continue(path, c, x0, [&](const ContinuationPoint& cp) {
-        x_end = cp.x;
-        lambda_end = cp.lambda;
-        return true;
-      });
-      if (lambda_end == 1.0) {
-        p.x = x_end;
-        ns = SolveNewton(at, options.newton, &p.x);
-        p.iterations += ns.iterations;
-      }
+  bool ok = NewtonFromStarts(system, alpha, omega, starts, options, &p.x, &p.iterations, &ns);
+  const Eigen::VectorXd x_fail = p.x;  // the last plain-Newton iterate, reported on failure
+  Eigen::VectorXd x;
+  // 1) Homotopy in α from α = 0, whose solution plain Newton usually finds.
+  const bool has_alpha = alpha.size() > 0 && alpha.cwiseAbs().maxCoeff() > 0.0;
+  Eigen::VectorXd x_alpha0;
+  if (!ok && has_alpha) {
+    NewtonSummary s0;
+    if (NewtonFromStarts(system, Eigen::VectorXd::Zero(alpha.size()), omega, {starts.back()},
+                         options, &x_alpha0, &p.iterations, &s0)) {
+      ok = ContinueInAlpha(system, alpha, omega, x_alpha0, options, &x, &p.iterations);
     }
   }
+  // 2) Continuation in frequency from a nearby frequency where Newton from the stick solution
+  //    converges: the route that makes the sweep succeed where a cold start at resonance fails.
+  //    Nearest first, so that the branch followed crosses as few resonances as possible.
+  for (double ratio : {0.95, 1.05, 0.9, 1.1, 0.8, 1.25, 0.5}) {
+    if (ok) break;
+    const double f0 = freq_hz * ratio;
+    Eigen::VectorXd x0;
+    NewtonSummary s0;
+    if (!NewtonFromStarts(system, alpha, kTwoPi * f0, {system.StickLinearSolution(kTwoPi * f0)},
+                          options, &x0, &p.iterations, &s0)) {
+      continue;
+    }
+    ok = ContinueInFrequency(system, alpha, f0, x0, freq_hz, options, &x, &p.iterations);
+  }
+  if (ok && !ns.IsSolutionUsable()) {
+    p.x = x;
+    ns = SolveNewton(HbmAtFrequency(system, omega, alpha), options.newton, &p.x);
+    p.iterations += ns.iterations;
+  }
+  if (!ns.IsSolutionUsable()) p.x = x_fail;
   p.status = ns.status;
   p.message = ns.message;
-  p.amplitude = system.Amplitude(p.x);
+  // A point that did not converge has no amplitude: NaN, never a number from a failed iterate.
+  p.amplitude = ns.IsSolutionUsable() ? system.Amplitude(p.x) : std::nan("");
   if (ns.IsSolutionUsable()) p.regimes = Regimes(system, p.x, omega, alpha);
   return p;
 }
@@ -168,7 +230,8 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
       throw std::invalid_argument("SolveAtFrequencies: frequencies must be positive, got " +
                                   std::to_string(f));
     }
-    FrfPoint p = SolveAtFrequency(system, alpha, f, have_last ? last_x : Eigen::VectorXd(), options);
+    FrfPoint p =
+        SolveAtFrequency(system, alpha, f, have_last ? last_x : Eigen::VectorXd(), options);
     // Last resort: continuation in frequency from the previous converged point.
     if (p.status != SolverStatus::kConverged && have_last) {
       HbmFrequencyFamily family(system, alpha);

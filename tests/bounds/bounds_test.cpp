@@ -177,6 +177,7 @@ TEST(Bounds, OptimiserImprovesOnASlopedStart) {
   ASSERT_EQ(start.status, SolverStatus::kConverged);
   BoundsOptions opt;
   opt.alpha_seeds = {seed};
+  opt.check_samples = 0;  // the optimiser alone
   const BoundsResult r = ComputeBounds(Baseline(), f, opt);
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
   EXPECT_EQ(r.optimizer_runs, 2);
@@ -236,8 +237,16 @@ TEST(Bounds, OptionsValidation) {
   o.alpha_seeds = {Eigen::Vector4d(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)};
   EXPECT_FALSE(o.IsValid(&err));
   o = BoundsOptions{};
-  o.objective = static_cast<BoundsOptions::Objective>(7);
+  o.objective = static_cast<BoundsOptions::Objective>(7);  // fixed underlying type: well-defined
   EXPECT_FALSE(o.IsValid(&err));
+  o = BoundsOptions{};
+  o.method = static_cast<BoundsOptions::Method>(9);
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("method"), std::string::npos);
+  o = BoundsOptions{};
+  o.check_samples = -1;
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("check_samples"), std::string::npos);
 
   o = BoundsOptions{};
   o.max_iterations = -3;
@@ -264,6 +273,13 @@ TEST(Bounds, DefaultSeedsAndStatusNames) {
   EXPECT_EQ(ToString(BoundStatus::kMaxIterations), "max-iterations");
   EXPECT_EQ(ToString(BoundStatus::kInfeasible), "infeasible");
   EXPECT_EQ(ToString(BoundStatus::kFailed), "failed");
+  for (auto m : {BoundsOptions::kFullSpace, BoundsOptions::kReducedSpace, BoundsOptions::kBoth}) {
+    BoundsOptions::Method back = BoundsOptions::kBoth;
+    ASSERT_TRUE(FromString(ToString(m), &back));
+    EXPECT_EQ(back, m);
+  }
+  BoundsOptions::Method unused;
+  EXPECT_FALSE(FromString("newton", &unused));
 }
 
 // Two independent optimisers, full-space Ipopt and the reduced-space projected gradient, find the
@@ -274,6 +290,7 @@ TEST(Bounds, FullSpaceAndReducedSpaceAgree) {
     const Case cs = testing::LoadBaseline({{param, value}});
     HbmSystem sys(cs.model, HbmOptions{1, 128});
     BoundsOptions full, reduced;
+    full.method = BoundsOptions::kFullSpace;
     reduced.method = BoundsOptions::kReducedSpace;
     const BoundsResult a = ComputeBounds(sys, 266.1, full);
     const BoundsResult b = ComputeBounds(sys, 266.1, reduced);
@@ -281,6 +298,68 @@ TEST(Bounds, FullSpaceAndReducedSpaceAgree) {
     ASSERT_TRUE(b.IsUsable()) << param << "=" << value << "\n" << b.BriefReport();
     EXPECT_NEAR(a.min.amplitude, b.min.amplitude, 1e-6 * a.max.amplitude) << param << "=" << value;
     EXPECT_NEAR(a.max.amplitude, b.max.amplitude, 1e-6 * a.max.amplitude) << param << "=" << value;
+  }
+}
+
+// Issue 9, defect 10: at gamma = 0.5, 272 Hz full-space Ipopt stops at a local minimum
+// (1.0677e-4 m) that fixed-alpha solves on a 5^4 grid beat. A bound that a sample beats is not a
+// bound: the default (reduced space + sample check) must enclose every grid sample, and the
+// sample check must improve Ipopt's bound.
+TEST(Bounds, DefaultBoundsEncloseAnAlphaGrid) {
+  const Case cs = testing::LoadBaseline({{"gamma", 0.5}});
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const double f = 272.0;
+  const BoundsResult b = ComputeBounds(sys, f, BoundsOptions{});
+  ASSERT_TRUE(b.IsUsable()) << b.BriefReport();
+  ExpectAdmissible(sys, f, b.min);
+  ExpectAdmissible(sys, f, b.max);
+  const std::vector<double> levels = {-1.0, -0.5, 0.0, 0.5, 1.0};
+  double grid_min = INFINITY, grid_max = 0.0;
+  int solved = 0;
+  Eigen::VectorXd warm = b.min.x;
+  for (int i = 0; i < 625; ++i) {
+    Eigen::Vector4d a(levels[i % 5], levels[i / 5 % 5], levels[i / 25 % 5], levels[i / 125]);
+    const FrfPoint p = SolveAtFrequency(sys, a, f, warm, FrfOptions{});
+    if (p.status != SolverStatus::kConverged) continue;
+    ++solved;
+    grid_min = std::min(grid_min, p.amplitude);
+    grid_max = std::max(grid_max, p.amplitude);
+  }
+  EXPECT_EQ(solved, 625);
+  EXPECT_LE(b.min.amplitude, grid_min * (1 + 1e-9));
+  EXPECT_GE(b.max.amplitude, grid_max * (1 - 1e-9));
+  std::printf("[bounds] gamma 0.5, 272 Hz: bounds [%.6e, %.6e], 5^4 grid [%.6e, %.6e]\n",
+              b.min.amplitude, b.max.amplitude, grid_min, grid_max);
+
+  BoundsOptions ipopt;
+  ipopt.method = BoundsOptions::kFullSpace;
+  ipopt.check_samples = 0;
+  const BoundsResult unchecked = ComputeBounds(sys, f, ipopt);
+  ipopt.check_samples = 16;
+  const BoundsResult checked = ComputeBounds(sys, f, ipopt);
+  ASSERT_TRUE(unchecked.IsUsable() && checked.IsUsable());
+  EXPECT_EQ(unchecked.samples_checked, 0);
+  EXPECT_EQ(checked.samples_checked, 16);
+  EXPECT_GE(checked.improved_by_samples, 1) << checked.BriefReport();
+  EXPECT_LT(checked.min.amplitude, unchecked.min.amplitude);
+}
+
+// Defect 8: a bound that did not converge carries NaN, never a number; R is NaN too.
+TEST(Bounds, FailedBoundsAreNaN) {
+  BoundsResult r;
+  EXPECT_TRUE(std::isnan(r.min.amplitude));
+  EXPECT_TRUE(std::isnan(r.max.loss_factor));
+  EXPECT_TRUE(std::isnan(r.robustness()));
+  BoundsOptions o;
+  o.max_iterations = 1;
+  o.method = BoundsOptions::kFullSpace;
+  o.alpha_seeds = {Eigen::VectorXd::Constant(4, 0.5)};  // not a KKT point: needs iterations
+  const BoundsResult f = ComputeBounds(Baseline(), 266.0, o);
+  ASSERT_FALSE(f.IsUsable()) << f.BriefReport();
+  for (const BoundSolution* s : {&f.min, &f.max}) {
+    if (s->IsUsable()) continue;
+    EXPECT_TRUE(std::isnan(s->amplitude)) << f.BriefReport();
+    EXPECT_TRUE(std::isnan(s->loss_factor)) << f.BriefReport();
   }
 }
 

@@ -236,5 +236,28 @@ TEST(HbmSystem, FullStickDissipatesNothingAndStickSlipDoes) {
   EXPECT_GT(far.potential_energy, 0.0);
 }
 
+// Issue 9, defect 1: H = 0 cannot carry a harmonic load or the harmonic-1 response, and a load
+// above H cannot be represented: both are errors, never silently dropped.
+TEST(HbmSystem, RejectsWhatTheHarmonicsCannotRepresent) {
+  std::string err;
+  EXPECT_FALSE((HbmOptions{0, 16}).IsValid(&err));
+  EXPECT_NE(err.find("harmonics"), std::string::npos);
+  const Model m = testing::LoadBaseline().model;
+  EXPECT_THROW({ HbmSystem sys(m, HbmOptions{0, 16}); }, std::invalid_argument);
+  Model high = m;
+  high.loads.push_back(HarmonicLoad{3, Eigen::VectorXd::Ones(m.num_dofs()),
+                                    Eigen::VectorXd::Zero(m.num_dofs())});
+  EXPECT_FALSE(LoadsRepresentable(high, 2, &err));
+  EXPECT_NE(err.find("harmonic 3"), std::string::npos) << err;
+  EXPECT_TRUE(LoadsRepresentable(high, 3, &err));
+  try {
+    HbmSystem sys(high, HbmOptions{1, 16});
+    ADD_FAILURE() << "a harmonic-3 load with H = 1 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("harmonic 3"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW({ HbmSystem sys(high, HbmOptions{3, 16}); });
+}
+
 }  // namespace
 }  // namespace fricrom

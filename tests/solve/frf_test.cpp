@@ -3,6 +3,9 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "fricrom/frf.h"
 #include "test_models.h"
@@ -149,6 +152,49 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
   }
   EXPECT_GT(plain_failed, 0) << "plain Newton no longer fails: the test lost its point";
   EXPECT_EQ(failed, 0) << "plain Newton failed on " << plain_failed << "/60";
+}
+
+// Issue 9, defect 9: single-frequency solves use the globalisation of the sweep. At gamma = 0.3,
+// 269 Hz and beta = 0.175, 267 Hz plain Newton (and the alpha homotopy) failed for all 625 alpha
+// of a 5^4 grid; every one must converge now. At mu = 0, 266 Hz the solve must land on the
+// branch the frequency sweep follows (2.7747e-6 m), not fail.
+TEST(Frf, SingleFrequencySolvesConvergeOnAnAlphaGrid) {
+  for (const auto& [param, value, f] : std::vector<std::tuple<std::string, double, double>>{
+           {"gamma", 0.3, 269.0}, {"beta", 0.175, 267.0}}) {
+    const Case cs = testing::LoadBaseline({{param, value}});
+    HbmSystem sys(cs.model, HbmOptions{1, 128});
+    const std::vector<double> levels = {-1.0, -0.5, 0.0, 0.5, 1.0};
+    int failed = 0;
+    for (int i = 0; i < 625; ++i) {
+      Eigen::Vector4d a(levels[i % 5], levels[i / 5 % 5], levels[i / 25 % 5], levels[i / 125]);
+      const FrfPoint p = SolveAtFrequency(sys, a, f, Eigen::VectorXd(), FrfOptions{});
+      if (p.status != SolverStatus::kConverged) {
+        ++failed;
+        EXPECT_TRUE(std::isnan(p.amplitude)) << "a failed point must not carry an amplitude";
+      }
+    }
+    EXPECT_EQ(failed, 0) << param << " = " << value << ", " << f << " Hz";
+  }
+  const Case cs = testing::LoadBaseline({{"mu", 0.0}});
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const FrfPoint one = SolveAtFrequency(sys, Eigen::Vector4d::Zero(), 266.0, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(one.status, SolverStatus::kConverged) << one.message;
+  const std::vector<FrfPoint> ramp = SolveAtFrequencies(sys, Eigen::Vector4d::Zero(),
+                                                        {250.0, 258.0, 262.0, 264.0, 266.0}, FrfOptions{});
+  ASSERT_EQ(ramp.back().status, SolverStatus::kConverged);
+  EXPECT_NEAR(one.amplitude, ramp.back().amplitude, 1e-9 * ramp.back().amplitude);
+}
+
+// Defect 8: a point that does not converge has a NaN amplitude.
+TEST(Frf, FailedPointHasNoAmplitude) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  FrfOptions o;
+  o.newton.residual_tolerance = 1e-30;  // below round-off: no route can converge
+  const FrfPoint p = SolveAtFrequency(sys, Eigen::Vector4d(0.7, -0.3, 1.0, -1.0), 266.5, Eigen::VectorXd(), o);
+  ASSERT_NE(p.status, SolverStatus::kConverged);
+  EXPECT_TRUE(std::isnan(p.amplitude));
+  EXPECT_TRUE(p.regimes.empty());
 }
 
 }  // namespace

@@ -1,0 +1,15 @@
+// The optimisation stage of ComputeBounds, shared with its sample check (sample_check.cpp).
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "fricrom/bounds.h"
+
+namespace fricrom {
+
+// Bounds from the given α seeds only (no sample check); options must be valid, seeds non-empty.
+BoundsResult OptimiseBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options,
+                            const std::vector<Eigen::VectorXd>& seeds);
+
+}  // namespace fricrom

@@ -1,0 +1,142 @@
+// ComputeBounds: the optimisation from the seeds, then a check of the bounds against
+// fixed-α solves at random α. The response over α is nonsmooth and every optimiser run finds a
+// local optimum only; a sample beyond a bound shows it, and the optimiser restarts from it.
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fricrom/bounds.h"
+#include "fricrom/frf.h"
+#include "optimise_bounds.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// A sample beats a bound only by more than this relative margin (solver tolerances are ~1e-10).
+constexpr double kBeatMargin = 1e-7;
+
+// The objective a bound ranks by: larger = more response (the maximum response minimises η).
+double Rank(const HbmSystem& system, const BoundsOptions& options, const Eigen::VectorXd& x,
+            double omega, const Eigen::VectorXd& alpha) {
+  if (options.objective == BoundsOptions::kAmplitude) return system.Amplitude(x);
+  return -system.Energies(x, omega, alpha).loss_factor();
+}
+
+double Rank(const BoundsOptions& options, const BoundSolution& s) {
+  return options.objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
+}
+
+// The sample itself as a bound candidate: a converged harmonic-balance solution at its α.
+BoundSolution FromSample(const HbmSystem& system, double omega, const FrfPoint& p,
+                         const Eigen::VectorXd& alpha) {
+  BoundSolution s;
+  s.x = p.x;
+  s.alpha = alpha;
+  s.amplitude = p.amplitude;
+  s.loss_factor = system.Energies(p.x, omega, alpha).loss_factor();
+  s.residual = 0.0;  // converged by Newton to the harmonic-balance tolerance
+  s.status = BoundStatus::kConverged;
+  s.message = "alpha sample (fixed-alpha solve) beyond the optimised bound";
+  s.iterations = p.iterations;
+  s.regimes = p.regimes;
+  return s;
+}
+
+struct SampleCandidates {
+  bool have_low = false, have_high = false;
+  FrfPoint low, high;
+  Eigen::VectorXd alpha_low, alpha_high;
+};
+
+// Solves at check_samples random α; keeps the sample furthest below y_min and above y_max.
+SampleCandidates SampleAlpha(const HbmSystem& system, double freq_hz, const BoundsOptions& options,
+                             BoundsResult* result) {
+  const int nc = system.num_contacts();
+  const double omega = kTwoPi * freq_hz;
+  std::mt19937 rng(options.sample_seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::VectorXd warm = result->min.IsUsable() ? result->min.x : Eigen::VectorXd();
+  SampleCandidates c;
+  double best_lo = result->min.IsUsable() ? Rank(options, result->min) : 0.0;
+  double best_hi = result->max.IsUsable() ? Rank(options, result->max) : 0.0;
+  for (int i = 0; i < options.check_samples; ++i) {
+    Eigen::VectorXd a(nc);
+    for (int k = 0; k < nc; ++k) a[k] = u(rng);
+    const FrfPoint p = SolveAtFrequency(system, a, freq_hz, warm, FrfOptions{});
+    ++result->samples_checked;
+    if (p.status != SolverStatus::kConverged) {
+      ++result->samples_failed;
+      continue;
+    }
+    const double v = Rank(system, options, p.x, omega, a);
+    // Only a converged bound is checked: a sample is no substitute for a failed optimisation.
+    if (result->min.IsUsable() && v < best_lo - kBeatMargin * std::abs(best_lo)) {
+      best_lo = v;
+      c.have_low = true;
+      c.low = p;
+      c.alpha_low = a;
+    }
+    if (result->max.IsUsable() && v > best_hi + kBeatMargin * std::abs(best_hi)) {
+      best_hi = v;
+      c.have_high = true;
+      c.high = p;
+      c.alpha_high = a;
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
+    throw std::invalid_argument("ComputeBounds: freq_hz must be positive and finite, got " +
+                                std::to_string(freq_hz));
+  }
+  const int nc = system.num_contacts();
+  const std::vector<Eigen::VectorXd> seeds =
+      options.alpha_seeds.empty() ? DefaultAlphaSeeds(nc) : options.alpha_seeds;
+  BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds);
+  if (nc == 0 || options.check_samples == 0) return result;
+
+  const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);
+  if (!c.have_low && !c.have_high) return result;
+  const double omega = kTwoPi * freq_hz;
+  std::vector<Eigen::VectorXd> restart;
+  if (c.have_low) restart.push_back(c.alpha_low);
+  if (c.have_high) restart.push_back(c.alpha_high);
+  const BoundsResult again = OptimiseBounds(system, freq_hz, options, restart);
+  result.seeds_tried += again.seeds_tried;
+  result.seeds_converged += again.seeds_converged;
+  result.start_failures += again.start_failures;
+  result.min_failures += again.min_failures;
+  result.max_failures += again.max_failures;
+  result.optimizer_runs += again.optimizer_runs;
+  // Each bound: the best of the first optimisation, the restart and the sample itself.
+  auto improve = [&](bool is_max, bool have_sample, const FrfPoint& sample,
+                     const Eigen::VectorXd& alpha, const BoundSolution& restarted) {
+    if (!have_sample) return;
+    BoundSolution& bound = is_max ? result.max : result.min;
+    BoundSolution best = FromSample(system, omega, sample, alpha);
+    const double sign = is_max ? 1.0 : -1.0;
+    if (restarted.IsUsable() && sign * Rank(options, restarted) >= sign * Rank(options, best)) {
+      best = restarted;
+      best.seed = static_cast<int>(seeds.size()) + restarted.seed;  // restart seeds come last
+      best.message += " (optimiser restarted from an alpha sample beyond the first bound)";
+    }
+    bound = std::move(best);
+    ++result.improved_by_samples;
+  };
+  improve(false, c.have_low, c.low, c.alpha_low, again.min);
+  improve(true, c.have_high, c.high, c.alpha_high, again.max);
+  return result;
+}
+
+}  // namespace fricrom

@@ -1,0 +1,27 @@
+#include "fricrom/certification.h"
+
+namespace fricrom {
+
+std::vector<std::string> CertificationGaps(const CertificationEvidence& e) {
+  std::vector<std::string> gaps;
+  const int solved = e.samples - e.samples_failed;
+  const int steady = e.time_runs - e.time_runs_unsteady;
+  if (solved <= 0 && steady <= 0) gaps.push_back("nothing was checked");
+  if (e.samples_failed > 0) {
+    gaps.push_back(std::to_string(e.samples_failed) + " of " + std::to_string(e.samples) +
+                   " alpha samples did not converge");
+  }
+  if (e.samples_outside > 0) {
+    gaps.push_back(std::to_string(e.samples_outside) + " alpha samples outside the bounds");
+  }
+  if (e.time_runs_unsteady > 0) {
+    gaps.push_back(std::to_string(e.time_runs_unsteady) + " of " + std::to_string(e.time_runs) +
+                   " time integrations reached no steady state");
+  }
+  if (e.time_runs_outside > 0) {
+    gaps.push_back(std::to_string(e.time_runs_outside) + " time integrations outside the bounds");
+  }
+  return gaps;
+}
+
+}  // namespace fricrom

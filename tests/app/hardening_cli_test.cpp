@@ -1,0 +1,137 @@
+// Issue 9 (hardening) at the command line: inputs the analysis cannot represent are exit-2 errors
+// that name the option or key, certificates need evidence, failed values are never numbers, and
+// a single-frequency solve is as strong as the sweep.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/cli_test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using fricrom::testing::CliRun;
+using fricrom::testing::Quote;
+using fricrom::testing::ReadFile;
+using fricrom::testing::Stderr;
+using fricrom::testing::Stdout;
+using fricrom::testing::TempDir;
+
+const std::string kBaseline = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml";
+
+std::string Out(const TempDir& t) { return " --out " + Quote(t.path().string()); }
+
+// Defect 1: H = 0 cannot carry the harmonic-1 load nor the harmonic-1 response.
+TEST(CliHardening, ZeroHarmonicsIsAnErrorForEveryCommand) {
+  for (const std::string& cmd :
+       {"bounds " + Quote(kBaseline) + " --freq 266",
+        "sweep " + Quote(kBaseline) + " --param gamma --from 0 --to 0.1",
+        "noa " + Quote(kBaseline) + " --param gamma --from 0 --to 0.1",
+        "verify " + Quote(kBaseline) + " --freq 266", "frf " + Quote(kBaseline),
+        "frf " + Quote(kBaseline) + " --freq 266"}) {
+    TempDir tmp;
+    const CliRun r = Stderr(cmd + " --harmonics 0" + Out(tmp));
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--harmonics"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::is_empty(tmp.path())) << cmd << " wrote files";
+  }
+}
+
+// Defect 1: a load at a harmonic above H is an error naming the key (case file) or option.
+TEST(CliHardening, LoadAboveHarmonicsIsAnError) {
+  TempDir tmp;
+  std::string text = ReadFile(kBaseline);
+  const auto pos = text.find("[[loads]]");
+  ASSERT_NE(pos, std::string::npos);
+  text.insert(pos, "[[loads]]\ndof = \"blade1.y\"\nharmonic = 5\ncos = 1.0\n\n");
+  const fs::path path = tmp.path() / "h5load.toml";
+  std::ofstream(path) << text;
+  const CliRun r = Stderr("frf " + Quote(path.string()) + " --freq 266" + Out(tmp));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(path.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("harmonic"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("loads["), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(tmp.path() / "frf.h5"));
+
+  // With H = 5 in the file, lowering it on the command line is refused naming --harmonics.
+  std::string h5 = text;
+  const auto hp = h5.find("harmonics = 1");
+  ASSERT_NE(hp, std::string::npos);
+  h5.replace(hp, 13, "harmonics = 5");
+  std::ofstream(path) << h5;
+  const CliRun ok = Stdout("case " + Quote(path.string()));
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  const CliRun low = Stderr("frf " + Quote(path.string()) + " --harmonics 1 --freq 266" + Out(tmp));
+  EXPECT_EQ(low.exit_code, 2) << low.output;
+  EXPECT_NE(low.output.find("--harmonics"), std::string::npos) << low.output;
+}
+
+// Defect 2: at mu = 0 every sample now solves, so the certificate rests on 20 converged samples.
+TEST(CliHardening, CertificateRestsOnEvidence) {
+  TempDir tmp;
+  const CliRun r =
+      Stdout("verify " + Quote(kBaseline) +
+             " --freq 266 --set mu=0 --alpha-samples 20 --time-runs 0 --json" + Out(tmp));
+  const json j = json::parse(r.output);
+  const int converged = j.at("sampling").at("converged");
+  const int failed = j.at("sampling").at("failed");
+  EXPECT_EQ(converged + failed, 20);
+  EXPECT_EQ(j.at("certified").get<bool>(), converged > 0 && failed == 0) << r.output;
+  EXPECT_EQ(r.exit_code, j.at("certified").get<bool>() ? 0 : 1);
+  EXPECT_EQ(j.at("not_certified_because").empty(), j.at("certified").get<bool>());
+  EXPECT_EQ(converged, 20) << "the single-frequency solve should now converge at mu = 0";
+}
+
+// Defect 9: frf --freq converges where the sweep does, to the sweep's branch.
+TEST(CliHardening, SingleFrequencyAsStrongAsTheSweep) {
+  TempDir tmp;
+  const CliRun one = Stdout("frf " + Quote(kBaseline) + " --set mu=0 --freq 266 --json" + Out(tmp));
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const double y = json::parse(one.output).at("points")[0].at("amplitude");
+  const CliRun ramp = Stdout("frf " + Quote(kBaseline) +
+                             " --set mu=0 --freq 250,258,262,264,266 --json" + Out(tmp));
+  ASSERT_EQ(ramp.exit_code, 0) << ramp.output;
+  const double y_ramp = json::parse(ramp.output).at("points")[4].at("amplitude");
+  EXPECT_NEAR(y, y_ramp, 1e-9 * y_ramp);
+  const CliRun g = Stdout("frf " + Quote(kBaseline) +
+                          " --set gamma=0.3 --alpha 0,0,0,0 --freq 269 --json" + Out(tmp));
+  EXPECT_EQ(g.exit_code, 0) << g.output;
+}
+
+// Defect 10: the default bounds report their sample check.
+TEST(CliHardening, BoundsReportTheSampleCheck) {
+  TempDir tmp;
+  const CliRun r =
+      Stdout("bounds " + Quote(kBaseline) + " --set gamma=0.5 --freq 272 --json" + Out(tmp));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  EXPECT_EQ(j.at("samples_checked"), 16);
+  EXPECT_TRUE(j.contains("improved_by_samples"));
+  // The 5^4 grid minimum of fixed-alpha solves at this point is 1.06584e-4 m (bounds_test).
+  EXPECT_LE(j.at("y_min").get<double>(), 1.0659e-4);
+}
+
+// Defect 11: short messages with the prefix; a directory is not a case.
+TEST(CliHardening, ParseErrorsAreShortAndPrefixed) {
+  const CliRun r = Stderr("bounds " + Quote(kBaseline) + " --freq 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.output.rfind("fricrom: error: --freq", 0), 0u) << r.output;
+  EXPECT_LT(r.output.size(), 200u) << r.output;
+  const CliRun u = Stderr("bounds " + Quote(kBaseline) + " --no-such-flag");
+  EXPECT_EQ(u.exit_code, 2);
+  EXPECT_EQ(u.output.rfind("fricrom: error:", 0), 0u) << u.output;
+  TempDir tmp;
+  const CliRun d = Stderr("modes " + Quote(tmp.path().string()));
+  EXPECT_EQ(d.exit_code, 2);
+  EXPECT_NE(d.output.find("is a directory"), std::string::npos) << d.output;
+  const CliRun h = Stdout("bounds --help");
+  EXPECT_EQ(h.exit_code, 0);
+}
+
+}  // namespace
