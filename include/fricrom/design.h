@@ -27,7 +27,7 @@ struct ResonanceSearchOptions {
   bool IsValid(std::string* error) const;
 };
 struct ResonanceResult {
-  double freq_hz = 0.0;
+  double freq_hz = 0.0;  // NaN when no maximum-response bound converged anywhere in the range
   BoundsResult bounds;  // the bounds at freq_hz
   int bound_solves = 0;
 };

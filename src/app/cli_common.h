@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,13 @@
 #include "fricrom/hbm.h"
 
 namespace fricrom::app {
+
+// A run that cannot produce its result because a solve did not converge (exit status 1, not the
+// bad-input status 2).
+class NotConverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct CaseArgs {
   std::string path;

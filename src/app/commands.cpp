@@ -341,6 +341,9 @@ int Run(int argc, char** argv) {
     if (fe_rc >= 0) return fe_rc;
     const int reduce_rc = reduce.Run();
     if (reduce_rc >= 0) return reduce_rc;
+  } catch (const NotConverged& e) {
+    std::cerr << "fricrom: not converged: " << e.what() << "\n";
+    return 1;
   } catch (const FeReadError& e) {
     std::cerr << "fricrom: error: " << e.what() << "\n";
     return 2;

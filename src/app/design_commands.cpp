@@ -184,6 +184,11 @@ struct DesignCommands::State {
     rs.scan_points = 21;
     const ResonanceResult r = FindResonance(system, rs, bo);
     *solves += r.bound_solves;
+    if (!std::isfinite(r.freq_hz)) {
+      throw NotConverged("no maximum-response bound converged over " +
+                         std::to_string(rs.lo_hz) + "-" + std::to_string(rs.hi_hz) +
+                         " Hz: no resonance to evaluate R at (give --freq)");
+    }
     return r.freq_hz;
   }
 
@@ -291,11 +296,13 @@ int DesignCommands::State::RunBounds() {
     progress(static_cast<int>(results.size()), static_cast<int>(freqs.size()));
   }
   progress.Done();
-  // Resonance: the peak of the maximum-response curve.
-  int peak = 0;
+  // Resonance: the peak of the maximum-response curve (none if no maximum converged).
+  int peak = -1;
   for (int i = 0; i < static_cast<int>(results.size()); ++i) {
-    if (results[i].max.IsUsable() && results[i].max.amplitude > results[peak].max.amplitude) peak = i;
+    if (results[i].max.IsUsable() && (peak < 0 || results[i].max.amplitude > results[peak].max.amplitude)) peak = i;
   }
+  const bool have_peak = peak >= 0;
+  if (!have_peak) peak = 0;  // describe the first point, whose values are NaN
   const double wall = Seconds(t0);
 
   const fs::path dir = OutDir(c, "bounds");
@@ -338,8 +345,8 @@ int DesignCommands::State::RunBounds() {
     h5.Matrix("bounds/alpha_at_max", amax);
     h5.Strings("bounds/regimes_min", rmin);
     h5.Strings("bounds/regimes_max", rmax);
-    h5.Attribute("bounds", "peak_freq_hz", results[peak].freq_hz);
-    h5.Attribute("bounds", "robustness_at_peak", results[peak].robustness());
+    h5.Attribute("bounds", "peak_freq_hz", have_peak ? results[peak].freq_hz : NAN);
+    h5.Attribute("bounds", "robustness_at_peak", have_peak ? results[peak].robustness() : NAN);
     h5.Attribute("bounds", "wall_s", wall);
     std::vector<double> lf;
     for (int i = 0; i < 400; ++i) {
@@ -377,7 +384,7 @@ int DesignCommands::State::RunBounds() {
   if (as_json) {
     json j = BoundsJson(c.model, at);
     if (freqs.size() > 1) {
-      j["peak_freq_hz"] = at.freq_hz;
+      j["peak_freq_hz"] = have_peak ? json(at.freq_hz) : json(nullptr);
       json pts = json::array();
       for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
       j["points"] = pts;

@@ -79,6 +79,11 @@ ResonanceResult FindResonance(const HbmSystem& system, const ResonanceSearchOpti
     y[i] = ymax(f[i], &b[i]);
     if (y[i] > y[best]) best = i;
   }
+  if (!(y[best] >= 0.0)) {  // no maximum converged anywhere: there is no peak to report
+    r.freq_hz = std::numeric_limits<double>::quiet_NaN();
+    r.bounds = b[best];
+    return r;
+  }
   // Golden-section refinement of the bracket around the best scan point.
   double a = f[std::max(best - 1, 0)], d = f[std::min(best + 1, n - 1)];
   double bx = d - kGolden * (d - a), cx = a + kGolden * (d - a);

@@ -105,5 +105,25 @@ TEST(Design, ResonanceIsThePeakOfTheMaximumResponse) {
   }
 }
 
+// Issue 9, defect 8: when no maximum converges anywhere there is no resonance: NaN, not the
+// first scan frequency reported as a peak.
+TEST(Design, NoConvergedMaximumMeansNoResonance) {
+  HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
+  ResonanceSearchOptions rs;
+  rs.lo_hz = 265.9;
+  rs.hi_hz = 266.1;
+  rs.scan_points = 3;
+  BoundsOptions bo;
+  bo.method = BoundsOptions::kFullSpace;
+  bo.max_iterations = 1;  // nothing that needs the optimiser converges
+  bo.alpha_seeds = {Eigen::VectorXd::Constant(4, 0.5)};
+  bo.check_samples = 0;
+  const ResonanceResult r = FindResonance(sys, rs, bo);
+  ASSERT_FALSE(r.bounds.max.IsUsable()) << r.bounds.BriefReport();
+  EXPECT_TRUE(std::isnan(r.freq_hz));
+  EXPECT_TRUE(std::isnan(r.bounds.max.amplitude));
+  EXPECT_EQ(r.bound_solves, 3);  // the scan only: no refinement around a non-existent peak
+}
+
 }  // namespace
 }  // namespace fricrom
