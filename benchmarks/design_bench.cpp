@@ -5,6 +5,7 @@
 #include "fricrom/bounds.h"
 #include "fricrom/case.h"
 #include "fricrom/design.h"
+#include "fricrom/hbm.h"
 
 namespace {
 

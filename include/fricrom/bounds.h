@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "fricrom/contact.h"
-#include "fricrom/hbm.h"
+#include "fricrom/harmonic_balance.h"
 
 namespace fricrom {
 
@@ -121,6 +121,6 @@ struct BoundsResult {
 // Response bounds of `system` at freq_hz. Throws std::invalid_argument on invalid options, a
 // non-positive frequency, or seeds whose size differs from the number of contacts; numerical
 // failures are reported through the statuses.
-BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options);
+BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options);
 
 }  // namespace fricrom

@@ -31,7 +31,7 @@ struct ResonanceResult {
   BoundsResult bounds;  // the bounds at freq_hz
   int bound_solves = 0;
 };
-ResonanceResult FindResonance(const HbmSystem& system, const ResonanceSearchOptions& search,
+ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
                               const BoundsOptions& bounds);
 
 struct RobustnessPoint {

@@ -1,4 +1,4 @@
-// Frequency responses of an HbmSystem at fixed α: solves at given frequencies (warm-started) or
+// Frequency responses of a harmonic-balance problem at fixed α: solves at given frequencies (warm-started) or
 // traces the branch by pseudo-arclength continuation over a frequency range.
 #pragma once
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/hbm.h"
+#include "fricrom/harmonic_balance.h"
 #include "fricrom/solve.h"
 
 namespace fricrom {
@@ -40,7 +40,7 @@ using FrfProgress = std::function<void(int, int)>;
 // Solves R(x; 2πf, α) = 0 at each frequency in order, each start warm from the last converged
 // point, falling back to the full-stick linear solution and then to a continuation from the last
 // converged point. A point that still fails keeps its status; its x is the last iterate.
-std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::VectorXd& alpha,
+std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
                                          const FrfOptions& options,
                                          const FrfProgress& progress = {});
@@ -52,7 +52,7 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
 // then continuation in frequency from nearby frequencies (0.95 f, 1.05 f, ... 0.5 f) (a cold start
 // at resonance fails where the branch followed from off-resonance succeeds). The point reports its
 // status; a failed point keeps the last Newton iterate in x and has a NaN amplitude.
-FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
+FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double freq_hz,
                           const Eigen::VectorXd& x_start, const FrfOptions& options);
 
 struct FrfTrace {
@@ -61,19 +61,19 @@ struct FrfTrace {
 };
 
 // Traces the branch from f_start to f_end by continuation (passing turning points).
-FrfTrace TraceFrf(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_start_hz,
+FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
                   double f_end_hz, const FrfOptions& options, const FrfProgress& progress = {});
 
-// Adapters that expose an HbmSystem at fixed α to the generic solvers (λ = ω in rad/s).
+// Adapters that expose a harmonic-balance problem at fixed α to the generic solvers (λ = ω in rad/s).
 class HbmAtFrequency : public SquareSystem {
  public:
-  HbmAtFrequency(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha);
+  HbmAtFrequency(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha);
   int size() const override;
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override;
   double ResidualScale() const override;
 
  private:
-  const HbmSystem& system_;
+  const HarmonicBalance& system_;
   double omega_;
   Eigen::VectorXd alpha_;
 };
@@ -81,7 +81,7 @@ class HbmAtFrequency : public SquareSystem {
 // R(x; ω, α0 + λ(α1 − α0)) at fixed ω: the path of the α homotopy.
 class HbmAlphaPath : public ParametricSystem {
  public:
-  HbmAlphaPath(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha0,
+  HbmAlphaPath(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha0,
                const Eigen::VectorXd& alpha1);
   int size() const override;
   void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
@@ -89,21 +89,21 @@ class HbmAlphaPath : public ParametricSystem {
   double ResidualScale() const override;
 
  private:
-  const HbmSystem& system_;
+  const HarmonicBalance& system_;
   double omega_;
   Eigen::VectorXd alpha0_, alpha1_;
 };
 
 class HbmFrequencyFamily : public ParametricSystem {
  public:
-  HbmFrequencyFamily(const HbmSystem& system, const Eigen::VectorXd& alpha);
+  HbmFrequencyFamily(const HarmonicBalance& system, const Eigen::VectorXd& alpha);
   int size() const override;
   void Evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd* r, Eigen::MatrixXd* j,
                 Eigen::VectorXd* dr_domega) const override;
   double ResidualScale() const override;
 
  private:
-  const HbmSystem& system_;
+  const HarmonicBalance& system_;
   Eigen::VectorXd alpha_;
 };
 

@@ -19,6 +19,7 @@
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
 #include "fricrom/frf.h"
+#include "fricrom/hbm.h"
 #include "fricrom/linear.h"
 #include "fricrom/time_integration.h"
 

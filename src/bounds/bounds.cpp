@@ -31,94 +31,8 @@ constexpr int kStallIterations = 10;
 constexpr int kSlowIterations = 10;
 constexpr double kSlowProgress = 1e-5;
 
-// The linear part of the residual, R = Z(ω) x − F̂exc + F̂c(x, α), needed to separate the contact
-// forces F̂c from R for the loss factor.
-struct LinearPart {
-  Eigen::MatrixXd z;
-  Eigen::VectorXd excitation;
-};
-
-LinearPart MakeLinearPart(const HbmSystem& sys, double omega) {
-  const Model& m = sys.model();
-  const int n = sys.num_dofs(), nx = sys.num_unknowns(), harmonics = sys.options().harmonics;
-  LinearPart lp;
-  lp.z.setZero(nx, nx);
-  lp.z.block(0, 0, n, n) = m.stiffness;
-  for (int h = 1; h <= harmonics; ++h) {
-    const int ia = sys.Index(0, 2 * h - 1), ib = sys.Index(0, 2 * h);
-    const double hw = h * omega;
-    const Eigen::MatrixXd kd = m.stiffness - hw * hw * m.mass;
-    lp.z.block(ia, ia, n, n) = kd;
-    lp.z.block(ib, ib, n, n) = kd;
-    lp.z.block(ia, ib, n, n) = hw * m.damping;
-    lp.z.block(ib, ia, n, n) = -hw * m.damping;
-  }
-  lp.excitation.setZero(nx);
-  for (const HarmonicLoad& load : m.loads) {
-    if (load.harmonic > harmonics) continue;
-    if (load.harmonic == 0) {
-      lp.excitation.segment(0, n) += load.cos;
-    } else {
-      lp.excitation.segment(sys.Index(0, 2 * load.harmonic - 1), n) += load.cos;
-      lp.excitation.segment(sys.Index(0, 2 * load.harmonic), n) += load.sin;
-    }
-  }
-  return lp;
-}
-
-// Loss factor η = (W_visc + W_fric) / (2π U_pot) (as HbmSystem::Energies) and, when the
-// evaluation carries the Jacobians, its exact gradient with respect to x and α. Works on the
-// global contact force vector F̂c = R − Z x + F̂exc: for every contact, Σ_dofs F̂c·x̂ equals
-// Σ (T̂·û + N̂·v̂), so the per-contact sums of Energies become sums over DOFs.
-double LossFactor(const HbmSystem& sys, const LinearPart& lp, double omega,
-                  const Eigen::VectorXd& x, const HbmEvaluation& e, Eigen::VectorXd* grad_x,
-                  Eigen::VectorXd* grad_alpha) {
-  const Model& m = sys.model();
-  const int n = sys.num_dofs(), nx = sys.num_unknowns(), harmonics = sys.options().harmonics;
-  const double pi = std::numbers::pi;
-  const Eigen::VectorXd fc = e.residual - lp.z * x + lp.excitation;
-  Eigen::VectorXd sx = Eigen::VectorXd::Zero(nx);   // S x: W_fric = π F̂cᵀ S x
-  Eigen::VectorXd stf = Eigen::VectorXd::Zero(nx);  // Sᵀ F̂c
-  Eigen::VectorXd dx = x;                           // D x: U_cont = ½ F̂cᵀ D x
-  dx.segment(0, n).setZero();
-  Eigen::VectorXd g_w = Eigen::VectorXd::Zero(nx), g_u = Eigen::VectorXd::Zero(nx);
-  double w_visc = 0.0, u_lin = 0.0;
-  for (int h = 1; h <= harmonics; ++h) {
-    const int ia = sys.Index(0, 2 * h - 1), ib = sys.Index(0, 2 * h);
-    const auto a = x.segment(ia, n), b = x.segment(ib, n);
-    const Eigen::VectorXd ca = m.damping * a, cb = m.damping * b;
-    const Eigen::VectorXd ka = m.stiffness * a, kb = m.stiffness * b;
-    w_visc += pi * h * h * omega * (a.dot(ca) + b.dot(cb));
-    u_lin += 0.5 * (a.dot(ka) + b.dot(kb));
-    sx.segment(ia, n) = h * b;
-    sx.segment(ib, n) = -h * a;
-    stf.segment(ia, n) = -h * fc.segment(ib, n);
-    stf.segment(ib, n) = h * fc.segment(ia, n);
-    g_w.segment(ia, n) = 2.0 * pi * h * h * omega * ca;
-    g_w.segment(ib, n) = 2.0 * pi * h * h * omega * cb;
-    g_u.segment(ia, n) = ka;
-    g_u.segment(ib, n) = kb;
-  }
-  const double w = w_visc + pi * fc.dot(sx);
-  const double u = u_lin + 0.5 * fc.dot(dx);
-  const double eta = w / (2.0 * pi * u);
-  if (grad_x != nullptr) {
-    const Eigen::MatrixXd dfc = e.jacobian - lp.z;  // ∂F̂c/∂x
-    g_w += pi * (dfc.transpose() * sx + stf);
-    Eigen::VectorXd dfc_dx = fc;
-    dfc_dx.segment(0, n).setZero();
-    g_u += 0.5 * (dfc.transpose() * dx + dfc_dx);
-    *grad_x = (g_w - 2.0 * pi * eta * g_u) / (2.0 * pi * u);
-    *grad_alpha = (pi * e.alpha_jacobian.transpose() * sx -
-                   2.0 * pi * eta * 0.5 * e.alpha_jacobian.transpose() * dx) /
-                  (2.0 * pi * u);
-  }
-  return eta;
-}
-
 struct RunSetup {
-  const HbmSystem* system = nullptr;
-  const LinearPart* linear = nullptr;
+  const HarmonicBalance* system = nullptr;
   double omega = 0.0;
   BoundsOptions::Objective objective = BoundsOptions::kAmplitude;
   double sign = 1.0;              // +1 minimises the objective, −1 maximises it
@@ -131,22 +45,19 @@ struct RunSetup {
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,
 // when grad_x is given, its gradient in the unscaled variables. `e` must hold R at (x, α) for the
 // loss factor, and the Jacobians as well for its gradient.
-double Objective(const RunSetup& s, const Eigen::VectorXd& x, const HbmEvaluation& e,
-                 Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha) {
-  const HbmSystem& sys = *s.system;
+double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
+                 const HbmEvaluation& e, Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha) {
+  const HarmonicBalance& sys = *s.system;
   const double factor = s.sign / s.objective_scale;
   if (s.objective == BoundsOptions::kAmplitude) {
-    const int ia = sys.Index(sys.model().response_dof, 1);
-    const int ib = sys.Index(sys.model().response_dof, 2);
     if (grad_x != nullptr) {
-      grad_x->setZero(sys.num_unknowns());
-      (*grad_x)[ia] = factor * 2.0 * x[ia];
-      (*grad_x)[ib] = factor * 2.0 * x[ib];
+      *grad_x = factor * sys.AmplitudeSquaredGradient(x);
       grad_alpha->setZero(sys.num_contacts());
     }
-    return factor * (x[ia] * x[ia] + x[ib] * x[ib]);
+    const double y = sys.Amplitude(x);
+    return factor * y * y;
   }
-  const double eta = LossFactor(sys, *s.linear, s.omega, x, e, grad_x, grad_alpha);
+  const double eta = sys.LossFactor(x, s.omega, alpha, e, grad_x, grad_alpha);
   if (grad_x != nullptr) {
     *grad_x *= factor;
     *grad_alpha *= factor;
@@ -166,7 +77,7 @@ bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::
   req.jacobian = req.alpha_jacobian = true;
   s.system->Evaluate(x0, s.omega, alpha0, req, &e);
   Eigen::VectorXd gx, ga;
-  Objective(s, x0, e, &gx, &ga);
+  Objective(s, x0, alpha0, e, &gx, &ga);
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
   if (!(lu.rcond() > 1e-12)) return false;
   const Eigen::VectorXd lambda = lu.solve(gx);
@@ -186,7 +97,7 @@ bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::
 // Jacobian, quasi-Newton Hessian.
 class BoundsNlp : public Ipopt::TNLP {
  public:
-  explicit BoundsNlp(const HbmSystem& system)
+  explicit BoundsNlp(const HarmonicBalance& system)
       : nx_(system.num_unknowns()), nc_(system.num_contacts()) {}
 
   // Prepares the next run (the structure never changes, so Ipopt can re-optimise this object).
@@ -240,7 +151,7 @@ class BoundsNlp : public Ipopt::TNLP {
   bool eval_f(Ipopt::Index, const Ipopt::Number* z, bool new_z, Ipopt::Number& f) override {
     const bool need_residual = s_.objective == BoundsOptions::kLossFactor;
     if (need_residual ? !Update(z, new_z, false) : !Unscaled(z, new_z)) return false;
-    f = Objective(s_, x_, eval_, nullptr, nullptr);
+    f = Objective(s_, x_, alpha_, eval_, nullptr, nullptr);
     return std::isfinite(f);
   }
 
@@ -248,7 +159,7 @@ class BoundsNlp : public Ipopt::TNLP {
     const bool need_jacobians = s_.objective == BoundsOptions::kLossFactor;
     if (need_jacobians ? !Update(z, new_z, true) : !Unscaled(z, new_z)) return false;
     Eigen::VectorXd gx, ga;
-    Objective(s_, x_, eval_, &gx, &ga);
+    Objective(s_, x_, alpha_, eval_, &gx, &ga);
     for (int i = 0; i < nx_; ++i) grad[i] = gx[i] * s_.x_scale[i];
     for (int c = 0; c < nc_; ++c) grad[nx_ + c] = ga[c];
     return gx.allFinite() && ga.allFinite();
@@ -451,14 +362,14 @@ BoundStatus MapStatus(Ipopt::SolverReturn r) {
   }
 }
 
-std::vector<ContactRegime> Regimes(const HbmSystem& sys, const Eigen::VectorXd& x, double omega,
+std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x, double omega,
                                    const Eigen::VectorXd& alpha) {
   std::vector<ContactRegime> out;
   for (const ContactHistory& h : sys.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
   return out;
 }
 
-double ResidualNorm(const HbmSystem& sys, const Eigen::VectorXd& x, double omega,
+double ResidualNorm(const HarmonicBalance& sys, const Eigen::VectorXd& x, double omega,
                     const Eigen::VectorXd& alpha) {
   HbmEvaluation e;
   sys.Evaluate(x, omega, alpha, HbmRequest{}, &e);
@@ -466,7 +377,7 @@ double ResidualNorm(const HbmSystem& sys, const Eigen::VectorXd& x, double omega
 }
 
 // Fills the derived fields of a solution (x, α set).
-void Describe(const HbmSystem& sys, double omega, BoundSolution* s) {
+void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s) {
   s->amplitude = sys.Amplitude(s->x);
   s->residual = ResidualNorm(sys, s->x, omega, s->alpha);
   s->loss_factor = sys.Energies(s->x, omega, s->alpha).loss_factor();
@@ -476,7 +387,7 @@ void Describe(const HbmSystem& sys, double omega, BoundSolution* s) {
 // A converged harmonic-balance solution at α to start from: SolveAtFrequencies at f, then
 // Newton from the other seeds' starts, then SolveAtFrequencies on a ramp up to f (its
 // continuation fallback follows the branch).
-bool StartSolution(const HbmSystem& sys, double freq_hz, const Eigen::VectorXd& alpha,
+bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
                    const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x) {
   const FrfOptions frf;
   std::vector<FrfPoint> pts = SolveAtFrequencies(sys, alpha, {freq_hz}, frf);
@@ -512,7 +423,7 @@ std::string FormatVector(const Eigen::VectorXd& v) {
 BoundSolution Run(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<BoundsNlp>& nlp,
                   bool* first_run, const RunSetup& setup, const Eigen::VectorXd& x0,
                   const Eigen::VectorXd& alpha0, int seed) {
-  const HbmSystem& sys = *setup.system;
+  const HarmonicBalance& sys = *setup.system;
   BoundSolution out;
   out.seed = seed;
   nlp->Reset(setup, x0, alpha0);
@@ -580,7 +491,7 @@ BoundSolution Run(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<BoundsNlp>
 // and the reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
 BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
                          int seed, int max_iterations, double tolerance) {
-  const HbmSystem& sys = *s.system;
+  const HarmonicBalance& sys = *s.system;
   BoundSolution out;
   out.seed = seed;
   auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
@@ -590,7 +501,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     req.jacobian = req.alpha_jacobian = true;
     sys.Evaluate(x, s.omega, a, req, &e);
     Eigen::VectorXd gx, ga;
-    *phi = Objective(s, x, e, &gx, &ga);
+    *phi = Objective(s, x, a, e, &gx, &ga);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
     if (!(lu.rcond() > 1e-14)) return false;
     *g = ga - e.alpha_jacobian.transpose() * lu.solve(gx);
@@ -794,7 +705,7 @@ std::string BoundsResult::BriefReport() const {
   return os.str();
 }
 
-BoundsResult OptimiseBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options,
+BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
                             const std::vector<Eigen::VectorXd>& seeds) {
   const int nc = system.num_contacts();
   if (seeds.empty() || seeds[0].size() != nc) {
@@ -811,13 +722,12 @@ BoundsResult OptimiseBounds(const HbmSystem& system, double freq_hz, const Bound
   result.min.message = result.max.message = "no seed produced a starting solution";
 
   // Scaling: per harmonic-coefficient block of the full-stick solution.
-  const int n = system.num_dofs(), nh = system.num_coefficients();
+  // Unknowns are harmonic-major: 2H+1 equal blocks (HarmonicBalance).
+  const int nh = 2 * system.harmonics() + 1, n = system.num_unknowns() / nh;
   const Eigen::VectorXd x_stick = system.StickLinearSolution(omega);
   const double x_ref = std::max(x_stick.lpNorm<Eigen::Infinity>(), 1e-300);
   RunSetup setup;
   setup.system = &system;
-  const LinearPart linear = MakeLinearPart(system, omega);
-  setup.linear = &linear;
   setup.omega = omega;
   setup.objective = options.objective;
   setup.residual_scale = system.ResidualScale();

@@ -21,7 +21,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kBeatMargin = 1e-7;
 
 // The objective a bound ranks by: larger = more response (the maximum response minimises η).
-double Rank(const HbmSystem& system, const BoundsOptions& options, const Eigen::VectorXd& x,
+double Rank(const HarmonicBalance& system, const BoundsOptions& options, const Eigen::VectorXd& x,
             double omega, const Eigen::VectorXd& alpha) {
   if (options.objective == BoundsOptions::kAmplitude) return system.Amplitude(x);
   return -system.Energies(x, omega, alpha).loss_factor();
@@ -32,7 +32,7 @@ double Rank(const BoundsOptions& options, const BoundSolution& s) {
 }
 
 // The sample itself as a bound candidate: a converged harmonic-balance solution at its α.
-BoundSolution FromSample(const HbmSystem& system, double omega, const FrfPoint& p,
+BoundSolution FromSample(const HarmonicBalance& system, double omega, const FrfPoint& p,
                          const Eigen::VectorXd& alpha) {
   BoundSolution s;
   s.x = p.x;
@@ -54,7 +54,7 @@ struct SampleCandidates {
 };
 
 // Solves at check_samples random α; keeps the sample furthest below y_min and above y_max.
-SampleCandidates SampleAlpha(const HbmSystem& system, double freq_hz, const BoundsOptions& options,
+SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
                              BoundsResult* result) {
   const int nc = system.num_contacts();
   const double omega = kTwoPi * freq_hz;
@@ -93,7 +93,7 @@ SampleCandidates SampleAlpha(const HbmSystem& system, double freq_hz, const Boun
 
 }  // namespace
 
-BoundsResult ComputeBounds(const HbmSystem& system, double freq_hz, const BoundsOptions& options) {
+BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {

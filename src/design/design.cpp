@@ -60,7 +60,7 @@ bool NoaOptions::IsValid(std::string* error) const {
   return inner.IsValid(error);
 }
 
-ResonanceResult FindResonance(const HbmSystem& system, const ResonanceSearchOptions& search,
+ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
                               const BoundsOptions& bounds) {
   std::string error;
   if (!search.IsValid(&error) || !bounds.IsValid(&error)) throw std::invalid_argument(error);

@@ -364,9 +364,17 @@ Eigen::VectorXd HbmSystem::StickLinearSolution(double omega) const {
   return x;
 }
 
-double HbmSystem::Amplitude(const Eigen::VectorXd& x, int dof) const {
+double HbmSystem::DofAmplitude(const Eigen::VectorXd& x, int dof) const {
   if (dof < 0) dof = model_.response_dof;
   return std::hypot(x[Index(dof, 1)], x[Index(dof, 2)]);
+}
+
+Eigen::VectorXd HbmSystem::AmplitudeSquaredGradient(const Eigen::VectorXd& x) const {
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(num_unknowns());
+  const int ia = Index(model_.response_dof, 1), ib = Index(model_.response_dof, 2);
+  g[ia] = 2.0 * x[ia];
+  g[ib] = 2.0 * x[ib];
+  return g;
 }
 
 std::vector<ContactHistory> HbmSystem::ContactHistories(const Eigen::VectorXd& x, double omega,

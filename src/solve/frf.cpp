@@ -8,14 +8,14 @@ namespace fricrom {
 namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-std::vector<ContactRegime> Regimes(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
+std::vector<ContactRegime> Regimes(const HarmonicBalance& system, const Eigen::VectorXd& x, double omega,
                                    const Eigen::VectorXd& alpha) {
   std::vector<ContactRegime> out;
   for (const ContactHistory& h : system.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
   return out;
 }
 
-ContinuationOptions MakeContinuationOptions(const HbmSystem& system, const FrfOptions& options,
+ContinuationOptions MakeContinuationOptions(const HarmonicBalance& system, const FrfOptions& options,
                                             double f0, double f1, const Eigen::VectorXd& x0) {
   ContinuationOptions c;
   c.lambda_start = kTwoPi * f0;
@@ -44,7 +44,7 @@ bool FrfOptions::IsValid(std::string* error) const {
   return newton.IsValid(error);
 }
 
-HbmAtFrequency::HbmAtFrequency(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha)
+HbmAtFrequency::HbmAtFrequency(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha)
     : system_(system), omega_(omega), alpha_(alpha) {}
 int HbmAtFrequency::size() const { return system_.num_unknowns(); }
 void HbmAtFrequency::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r,
@@ -58,7 +58,7 @@ void HbmAtFrequency::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r,
 }
 double HbmAtFrequency::ResidualScale() const { return system_.ResidualScale(); }
 
-HbmFrequencyFamily::HbmFrequencyFamily(const HbmSystem& system, const Eigen::VectorXd& alpha)
+HbmFrequencyFamily::HbmFrequencyFamily(const HarmonicBalance& system, const Eigen::VectorXd& alpha)
     : system_(system), alpha_(alpha) {}
 int HbmFrequencyFamily::size() const { return system_.num_unknowns(); }
 void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd* r,
@@ -74,7 +74,7 @@ void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen:
 }
 double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(); }
 
-HbmAlphaPath::HbmAlphaPath(const HbmSystem& system, double omega, const Eigen::VectorXd& alpha0,
+HbmAlphaPath::HbmAlphaPath(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha0,
                            const Eigen::VectorXd& alpha1)
     : system_(system), omega_(omega), alpha0_(alpha0), alpha1_(alpha1) {}
 int HbmAlphaPath::size() const { return system_.num_unknowns(); }
@@ -98,7 +98,7 @@ namespace {
 
 // Follows the branch at fixed α from (f_from, x_from) to f_to by continuation in frequency and
 // polishes the end by Newton; true with *x the solution at f_to.
-bool ContinueInFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_from,
+bool ContinueInFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_from,
                          const Eigen::VectorXd& x_from, double f_to, const FrfOptions& options,
                          Eigen::VectorXd* x, int* iterations) {
   HbmFrequencyFamily family(system, alpha);
@@ -118,7 +118,7 @@ bool ContinueInFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, 
 }
 
 // Homotopy in α: the solution at α = 0 (x0) continued along α(λ) = λ·α_target, λ: 0 → 1.
-bool ContinueInAlpha(const HbmSystem& system, const Eigen::VectorXd& alpha, double omega,
+bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
                      const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
                      int* iterations) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
@@ -146,7 +146,7 @@ bool ContinueInAlpha(const HbmSystem& system, const Eigen::VectorXd& alpha, doub
 }
 
 // Newton at (ω, α) from `starts` in order; true with *x the solution.
-bool NewtonFromStarts(const HbmSystem& system, const Eigen::VectorXd& alpha, double omega,
+bool NewtonFromStarts(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
                       const std::vector<Eigen::VectorXd>& starts, const FrfOptions& options,
                       Eigen::VectorXd* x, int* iterations, NewtonSummary* last) {
   const HbmAtFrequency at(system, omega, alpha);
@@ -161,7 +161,7 @@ bool NewtonFromStarts(const HbmSystem& system, const Eigen::VectorXd& alpha, dou
 
 }  // namespace
 
-FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha, double freq_hz,
+FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double freq_hz,
                           const Eigen::VectorXd& x_start, const FrfOptions& options) {
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
     throw std::invalid_argument("SolveAtFrequency: frequency must be positive, got " +
@@ -215,7 +215,7 @@ FrfPoint SolveAtFrequency(const HbmSystem& system, const Eigen::VectorXd& alpha,
   return p;
 }
 
-std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::VectorXd& alpha,
+std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
                                          const FrfOptions& options, const FrfProgress& progress) {
   std::string error;
@@ -257,7 +257,7 @@ std::vector<FrfPoint> SolveAtFrequencies(const HbmSystem& system, const Eigen::V
   return points;
 }
 
-FrfTrace TraceFrf(const HbmSystem& system, const Eigen::VectorXd& alpha, double f_start_hz,
+FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
                   double f_end_hz, const FrfOptions& options, const FrfProgress& progress) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "fricrom/frf.h"
+#include "fricrom/hbm.h"
 #include "test_models.h"
 
 namespace fricrom {

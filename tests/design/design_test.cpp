@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fricrom/design.h"
+#include "fricrom/hbm.h"
 #include "test_models.h"
 
 namespace fricrom {

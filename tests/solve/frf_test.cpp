@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fricrom/frf.h"
+#include "fricrom/hbm.h"
 #include "test_models.h"
 
 namespace fricrom {
