@@ -1,23 +1,12 @@
-#include <fftw3.h>
-
 #include <cmath>
-#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include "fricrom/contact_forces.h"
 #include "fricrom/hbm.h"
 
 namespace fricrom {
-namespace {
-
-// FFTW's planner is not thread-safe; plans are made once per HbmSystem under this lock.
-std::mutex& PlannerMutex() {
-  static std::mutex m;
-  return m;
-}
-
-}  // namespace
 
 bool HbmOptions::IsValid(std::string* error) const {
   // The response is the first-harmonic amplitude and the excitation is periodic: H = 0 (a static
@@ -99,93 +88,18 @@ void CheckInputs(const HbmSystem& sys, const Eigen::VectorXd& x, const Eigen::Ve
 
 }  // namespace
 
-// FFTW plans, buffers and the dense transform tables used for the Jacobian.
+// The shared AFT (contact_forces.h) and the per-evaluation scratch of one contact.
 struct HbmSystem::Workspace {
-  int n = 0;   // samples
-  int nh = 0;  // coefficients 2H+1
-  double* real = nullptr;
-  fftw_complex* spec = nullptr;
-  fftw_plan forward = nullptr;   // r2c: samples -> spectrum
-  fftw_plan backward = nullptr;  // c2r: spectrum -> samples
-  Eigen::MatrixXd synthesis;     // N x nh: samples = synthesis * coefficients
-  Eigen::MatrixXd analysis;      // nh x N: coefficients = analysis * samples
-  // Per-evaluation scratch.
-  Eigen::VectorXd u, v, uh, vh, th, nh_coef, g;
-  Eigen::MatrixXd w_tu, w_tv, w_nv, a_tu, a_tv, a_nv;
-  ContactLawResult law;
-
-  Workspace(int samples, int harmonics) : n(samples), nh(2 * harmonics + 1) {
-    std::lock_guard<std::mutex> lock(PlannerMutex());
-    real = fftw_alloc_real(static_cast<size_t>(n));
-    spec = fftw_alloc_complex(static_cast<size_t>(n / 2 + 1));
-    forward = fftw_plan_dft_r2c_1d(n, real, spec, FFTW_ESTIMATE);
-    backward = fftw_plan_dft_c2r_1d(n, spec, real, FFTW_ESTIMATE);
-    if (!real || !spec || !forward || !backward) {
-      throw std::runtime_error("HbmSystem: FFTW could not allocate or plan a transform of size " +
-                               std::to_string(n));
-    }
-    synthesis.resize(n, nh);
-    analysis.resize(nh, n);
-    for (int k = 0; k < n; ++k) {
-      const double theta = 2.0 * std::numbers::pi * k / n;
-      synthesis(k, 0) = 1.0;
-      analysis(0, k) = 1.0 / n;
-      for (int h = 1; h <= harmonics; ++h) {
-        synthesis(k, 2 * h - 1) = std::cos(h * theta);
-        synthesis(k, 2 * h) = std::sin(h * theta);
-        analysis(2 * h - 1, k) = 2.0 / n * std::cos(h * theta);
-        analysis(2 * h, k) = 2.0 / n * std::sin(h * theta);
-      }
-    }
-    u.resize(n);
-    v.resize(n);
-    w_tu.resize(n, nh);
-    w_tv.resize(n, nh);
-    w_nv.resize(n, nh);
-    g.resize(n);
-  }
-  ~Workspace() {
-    std::lock_guard<std::mutex> lock(PlannerMutex());
-    if (forward) fftw_destroy_plan(forward);
-    if (backward) fftw_destroy_plan(backward);
-    fftw_free(real);
-    fftw_free(spec);
-  }
-
-  // coefficients [a0, a1, b1, ...] -> N samples
-  void ToTime(const Eigen::VectorXd& coef, Eigen::VectorXd* samples) {
-    const int half = n / 2 + 1;
-    for (int i = 0; i < half; ++i) spec[i][0] = spec[i][1] = 0.0;
-    spec[0][0] = coef[0];
-    for (int h = 1; 2 * h < nh; ++h) {
-      spec[h][0] = 0.5 * coef[2 * h - 1];
-      spec[h][1] = -0.5 * coef[2 * h];
-    }
-    fftw_execute(backward);
-    for (int k = 0; k < n; ++k) (*samples)[k] = real[k];
-  }
-  // AFT of one contact: relative displacement coefficients -> samples -> law -> force
-  // coefficients (uh, vh, u, v, law, th, nh_coef).
+  AftContactForces aft;
+  Eigen::VectorXd uh, vh;
+  ContactForceBlocks f;
+  explicit Workspace(const HbmOptions& options) : aft(options) {}
+  // AFT of one contact of `sys` at x: relative coefficients (uh, vh) -> forces f.
   void Aft(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& x, double alpha,
            bool derivatives) {
     RelativeCoefficients(sys, c, c.tangent, x, &uh);
     RelativeCoefficients(sys, c, c.normal, x, &vh);
-    ToTime(uh, &u);
-    ToTime(vh, &v);
-    EvaluateContactLaw(LawParams(c), u, v, alpha, derivatives, &law);
-    ToFrequency(law.tangential, &th);
-    ToFrequency(law.normal, &nh_coef);
-  }
-  // N samples -> coefficients
-  void ToFrequency(const Eigen::VectorXd& samples, Eigen::VectorXd* coef) {
-    for (int k = 0; k < n; ++k) real[k] = samples[k];
-    fftw_execute(forward);
-    coef->resize(nh);
-    (*coef)[0] = spec[0][0] / n;
-    for (int h = 1; 2 * h < nh; ++h) {
-      (*coef)[2 * h - 1] = 2.0 / n * spec[h][0];
-      (*coef)[2 * h] = -2.0 / n * spec[h][1];
-    }
+    aft.Evaluate(LawParams(c), uh, vh, alpha, derivatives, &f);
   }
 };
 
@@ -197,7 +111,7 @@ HbmSystem::HbmSystem(Model model, const HbmOptions& options)
   if (!LoadsRepresentable(model_, options_.harmonics, &error)) {
     throw std::invalid_argument("HbmSystem: " + error);
   }
-  work_ = std::make_unique<Workspace>(options_.samples_per_period, options_.harmonics);
+  work_ = std::make_unique<Workspace>(options_);
 }
 
 HbmSystem::~HbmSystem() = default;
@@ -262,36 +176,23 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
     // Residual: side A gets +(N n + T t), side B the opposite.
     for (int i = 0; i < dim; ++i) {
       for (int j = 0; j < nh; ++j) {
-        const double f = c.normal[i] * w.nh_coef[j] + c.tangent[i] * w.th[j];
+        const double f = c.normal[i] * w.f.n[j] + c.tangent[i] * w.f.t[j];
         if (c.dofs_a[i] >= 0) r[Index(c.dofs_a[i], j)] += f;
         if (c.dofs_b[i] >= 0) r[Index(c.dofs_b[i], j)] -= f;
       }
     }
     if (!derivs) continue;
 
-    // Sample-level sparse derivatives -> coefficient-level nh x nh blocks: A = P · (dF/ds) · Q.
-    w.w_tu.setZero();
-    w.w_tv.setZero();
-    w.g.setZero();
-    for (int k = 0; k < w.n; ++k) {
-      const TangentialDerivative& d = w.law.dT[k];
-      if (d.u_plus >= 0 && d.u_plus != d.u_minus) {
-        w.w_tu.row(k) = c.kt * (w.synthesis.row(d.u_plus) - w.synthesis.row(d.u_minus));
-      }
-      if (d.v_index >= 0 && d.dv != 0.0) w.w_tv.row(k) = d.dv * w.synthesis.row(d.v_index);
-      w.w_nv.row(k) = w.law.dN_dv[k] * w.synthesis.row(k);
-      w.g[k] = d.dalpha;
-    }
     if (request.jacobian) {
-      w.a_tu.noalias() = w.analysis * w.w_tu;
-      w.a_tv.noalias() = w.analysis * w.w_tv;
-      w.a_nv.noalias() = w.analysis * w.w_nv;
+      const Eigen::MatrixXd& a_tu = w.f.dt_du;
+      const Eigen::MatrixXd& a_tv = w.f.dt_dv;
+      const Eigen::MatrixXd& a_nv = w.f.dn_dv;
       for (int i = 0; i < dim; ++i) {      // row direction
         for (int e = 0; e < dim; ++e) {    // column direction
           // d(n_i N̂ + t_i T̂)/d(relative displacement along e)
-          const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * w.a_nv +
-                                        c.tangent[i] * (c.tangent[e] * w.a_tu +
-                                                        c.normal[e] * w.a_tv);
+          const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * a_nv +
+                                        c.tangent[i] * (c.tangent[e] * a_tu +
+                                                        c.normal[e] * a_tv);
           const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
           const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
           for (int sr = 0; sr < 2; ++sr) {
@@ -310,7 +211,7 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
       }
     }
     if (request.alpha_jacobian) {
-      const Eigen::VectorXd gh = w.analysis * w.g;
+      const Eigen::VectorXd& gh = w.f.dt_dalpha;
       for (int i = 0; i < dim; ++i) {
         for (int j = 0; j < nh; ++j) {
           if (c.dofs_a[i] >= 0) out->alpha_jacobian(Index(c.dofs_a[i], j), ci) += c.tangent[i] * gh[j];
@@ -387,13 +288,14 @@ std::vector<ContactHistory> HbmSystem::ContactHistories(const Eigen::VectorXd& x
     const Contact& c = model_.contacts[ci];
     ContactHistory hist;
     w.Aft(*this, c, x, alpha[ci], false);
-    hist.u = w.u;
-    hist.v = w.v;
-    hist.tangential = w.law.tangential;
-    hist.normal = w.law.normal;
-    hist.states = w.law.states;
-    hist.regime = ClassifyRegime(w.law.states);
-    hist.time_s = Eigen::VectorXd::LinSpaced(w.n, 0.0, period * (w.n - 1) / w.n);
+    const int n = w.aft.num_samples();
+    hist.u = w.f.u;
+    hist.v = w.f.v;
+    hist.tangential = w.f.law.tangential;
+    hist.normal = w.f.law.normal;
+    hist.states = w.f.law.states;
+    hist.regime = ClassifyRegime(w.f.law.states);
+    hist.time_s = Eigen::VectorXd::LinSpaced(n, 0.0, period * (n - 1) / n);
     out.push_back(std::move(hist));
   }
   return out;
@@ -426,12 +328,12 @@ CycleEnergy HbmSystem::Energies(const Eigen::VectorXd& x, double omega,
     double diss = 0.0;  // ∮ (T du + N dv), harmonic by harmonic
     for (int h = 1; h <= options_.harmonics; ++h) {
       diss += pi * h *
-              (w.th[2 * h - 1] * w.uh[2 * h] - w.th[2 * h] * w.uh[2 * h - 1] +
-               w.nh_coef[2 * h - 1] * w.vh[2 * h] - w.nh_coef[2 * h] * w.vh[2 * h - 1]);
+              (w.f.t[2 * h - 1] * w.uh[2 * h] - w.f.t[2 * h] * w.uh[2 * h - 1] +
+               w.f.n[2 * h - 1] * w.vh[2 * h] - w.f.n[2 * h] * w.vh[2 * h - 1]);
     }
     e.contact_dissipation.push_back(diss);
     for (int j = 1; j < num_coefficients(); ++j) {
-      e.potential_energy += 0.5 * (w.th[j] * w.uh[j] + w.nh_coef[j] * w.vh[j]);
+      e.potential_energy += 0.5 * (w.f.t[j] * w.uh[j] + w.f.n[j] * w.vh[j]);
     }
   }
   return e;

@@ -1,0 +1,86 @@
+// Harmonic balance condensed onto the contact DOFs (issue 10): the nonlinear unknowns are the
+// harmonics of the relative displacements of the contacts (u along the tangent, v along the
+// normal, two per contact) and of the response DOF; the linear remainder is solved per harmonic
+// through the receptance of the linear part. With B the relative-displacement operator,
+// K_s = diag(kt, kn) the stick stiffness of the contacts and Z̃_h = Z_h + Bᵀ K_s B (the
+// full-stick dynamic stiffness, nonsingular even when a damper is held only by its contacts):
+//   x̃_h(r) = Z̃_h⁻¹ (f_h − Bᵀ F̃_h(r)),   F̃(r) = F_c(r) − K_s r   (exact, no approximation),
+//   R_r = W (r − B x̃(r)) = 0,   R_y = s_y (y − e_respᵀ x̃(r)) = 0,
+// with W = diag(max(kn, kt)) per contact (so R is in newtons, like the full balance). The
+// solution equals the full HbmSystem solution (tests compare both to 1e-10). Unknowns are
+// harmonic-major: 2H+1 blocks of [r (2·contacts) | y (1)].
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "fricrom/harmonic_balance.h"
+#include "fricrom/model.h"
+
+namespace fricrom {
+
+class HarmonicReceptance;
+class AftContactForces;
+class HbmSystem;
+struct ContactForceBlocks;
+
+class CondensedSystem : public HarmonicBalance {
+ public:
+  CondensedSystem(Model model, const HbmOptions& options);  // throws std::invalid_argument
+  ~CondensedSystem() override;
+  CondensedSystem(const CondensedSystem&) = delete;
+  CondensedSystem& operator=(const CondensedSystem&) = delete;
+
+  const Model& model() const { return model_; }
+  int num_relative() const { return 2 * num_contacts(); }
+  int block_size() const { return num_relative() + 1; }
+  int num_unknowns() const override;
+  int num_contacts() const override { return static_cast<int>(model_.contacts.size()); }
+  int harmonics() const override { return options_.harmonics; }
+
+  void Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                const HbmRequest& request, HbmEvaluation* out) const override;
+  double ResidualScale() const override;
+  Eigen::VectorXd StickLinearSolution(double omega) const override;
+  double Amplitude(const Eigen::VectorXd& x) const override;
+  Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const override;
+  double LossFactor(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                    const HbmEvaluation& e, Eigen::VectorXd* grad_x,
+                    Eigen::VectorXd* grad_alpha) const override;
+  std::vector<ContactHistory> ContactHistories(const Eigen::VectorXd& x, double omega,
+                                               const Eigen::VectorXd& alpha) const override;
+  CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
+                       const Eigen::VectorXd& alpha) const override;
+
+  // All DOF coefficients (hbm.h layout) of condensed unknowns x at (ω, α): x̃(r).
+  Eigen::VectorXd Recover(const Eigen::VectorXd& x, double omega,
+                          const Eigen::VectorXd& alpha) const;
+  // Condensed unknowns of full DOF coefficients (r = B x, y = response DOF).
+  Eigen::VectorXd Condense(const Eigen::VectorXd& x_full) const;
+
+ private:
+  int Idx(int coefficient, int row) const { return coefficient * block_size() + row; }
+  void CheckInputs(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) const;
+  // Contact forces F̃ (coefficient-major, 2 rows per contact) at x; blocks_ keep derivatives.
+  Eigen::VectorXd ContactForces(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
+                                bool derivatives) const;
+  // Stacked F̃ (or r) of harmonic h: [coef 2h−1 rows; coef 2h rows], or coef 0.
+  Eigen::VectorXd Stack(int h, const Eigen::VectorXd& coefficient_major) const;
+  // A (rows × m·nr, m = coefficients of harmonic h) times ∂F̃_h/∂r -> rows × nh·nr.
+  Eigen::MatrixXd TimesForceJacobian(int h, const Eigen::MatrixXd& a) const;
+  Eigen::VectorXd Excitation(int h) const;
+
+  Model model_;
+  HbmOptions options_;
+  Eigen::MatrixXd b_;   // relative-displacement operator, 2 rows per contact (u, v)
+  Eigen::VectorXd ks_;  // stick stiffness per row (kt, kn)
+  Eigen::VectorXd w_;   // row weights of R_r
+  double sy_ = 1.0;     // weight of R_y
+  std::unique_ptr<HarmonicReceptance> receptance_;
+  std::unique_ptr<AftContactForces> aft_;
+  std::unique_ptr<HbmSystem> full_;  // the uncondensed balance: energies, histories, η
+  mutable std::vector<ContactForceBlocks> blocks_;
+};
+
+}  // namespace fricrom

@@ -1,0 +1,150 @@
+#include "fricrom/contact_forces.h"
+
+#include <fftw3.h>
+
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace fricrom {
+namespace {
+
+// FFTW's planner is not thread-safe; plans are made and destroyed under this lock.
+std::mutex& PlannerMutex() {
+  static std::mutex m;
+  return m;
+}
+
+}  // namespace
+
+struct AftContactForces::Plans {
+  int n = 0;   // samples
+  int nh = 0;  // coefficients 2H+1
+  double* real = nullptr;
+  fftw_complex* spec = nullptr;
+  fftw_plan forward = nullptr;   // r2c: samples -> spectrum
+  fftw_plan backward = nullptr;  // c2r: spectrum -> samples
+  Eigen::MatrixXd synthesis;     // N x nh: samples = synthesis * coefficients
+  Eigen::MatrixXd analysis;      // nh x N: coefficients = analysis * samples
+  Eigen::MatrixXd w_tu, w_tv, w_nv;
+  Eigen::VectorXd g;
+
+  Plans(int samples, int harmonics) : n(samples), nh(2 * harmonics + 1) {
+    std::lock_guard<std::mutex> lock(PlannerMutex());
+    real = fftw_alloc_real(static_cast<size_t>(n));
+    spec = fftw_alloc_complex(static_cast<size_t>(n / 2 + 1));
+    if (real && spec) {
+      forward = fftw_plan_dft_r2c_1d(n, real, spec, FFTW_ESTIMATE);
+      backward = fftw_plan_dft_c2r_1d(n, spec, real, FFTW_ESTIMATE);
+    }
+    if (!real || !spec || !forward || !backward) {
+      Release();
+      throw std::runtime_error("AftContactForces: FFTW could not plan a transform of size " +
+                               std::to_string(n));
+    }
+    synthesis.resize(n, nh);
+    analysis.resize(nh, n);
+    for (int k = 0; k < n; ++k) {
+      const double theta = 2.0 * std::numbers::pi * k / n;
+      synthesis(k, 0) = 1.0;
+      analysis(0, k) = 1.0 / n;
+      for (int h = 1; h <= harmonics; ++h) {
+        synthesis(k, 2 * h - 1) = std::cos(h * theta);
+        synthesis(k, 2 * h) = std::sin(h * theta);
+        analysis(2 * h - 1, k) = 2.0 / n * std::cos(h * theta);
+        analysis(2 * h, k) = 2.0 / n * std::sin(h * theta);
+      }
+    }
+    w_tu.resize(n, nh);
+    w_tv.resize(n, nh);
+    w_nv.resize(n, nh);
+    g.resize(n);
+  }
+  ~Plans() {
+    std::lock_guard<std::mutex> lock(PlannerMutex());
+    Release();
+  }
+  void Release() {
+    if (forward) fftw_destroy_plan(forward);
+    if (backward) fftw_destroy_plan(backward);
+    fftw_free(real);
+    fftw_free(spec);
+    forward = backward = nullptr;
+    real = nullptr;
+    spec = nullptr;
+  }
+
+  // coefficients [c0, a1, b1, ...] -> N samples
+  void ToTime(const Eigen::VectorXd& coef, Eigen::VectorXd* samples) {
+    const int half = n / 2 + 1;
+    for (int i = 0; i < half; ++i) spec[i][0] = spec[i][1] = 0.0;
+    spec[0][0] = coef[0];
+    for (int h = 1; 2 * h < nh; ++h) {
+      spec[h][0] = 0.5 * coef[2 * h - 1];
+      spec[h][1] = -0.5 * coef[2 * h];
+    }
+    fftw_execute(backward);
+    samples->resize(n);
+    for (int k = 0; k < n; ++k) (*samples)[k] = real[k];
+  }
+  // N samples -> coefficients
+  void ToFrequency(const Eigen::VectorXd& samples, Eigen::VectorXd* coef) {
+    for (int k = 0; k < n; ++k) real[k] = samples[k];
+    fftw_execute(forward);
+    coef->resize(nh);
+    (*coef)[0] = spec[0][0] / n;
+    for (int h = 1; 2 * h < nh; ++h) {
+      (*coef)[2 * h - 1] = 2.0 / n * spec[h][0];
+      (*coef)[2 * h] = -2.0 / n * spec[h][1];
+    }
+  }
+};
+
+AftContactForces::AftContactForces(const HbmOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("AftContactForces: " + error);
+  plans_ = std::make_unique<Plans>(options.samples_per_period, options.harmonics);
+}
+
+AftContactForces::~AftContactForces() = default;
+
+int AftContactForces::num_coefficients() const { return plans_->nh; }
+int AftContactForces::num_samples() const { return plans_->n; }
+
+void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::VectorXd& uh,
+                                const Eigen::VectorXd& vh, double alpha, bool derivatives,
+                                ContactForceBlocks* out) const {
+  Plans& p = *plans_;
+  if (uh.size() != p.nh || vh.size() != p.nh) {
+    throw std::invalid_argument("AftContactForces: expected " + std::to_string(p.nh) +
+                                " coefficients per relative displacement");
+  }
+  p.ToTime(uh, &out->u);
+  p.ToTime(vh, &out->v);
+  EvaluateContactLaw(params, out->u, out->v, alpha, derivatives, &out->law);
+  p.ToFrequency(out->law.tangential, &out->t);
+  p.ToFrequency(out->law.normal, &out->n);
+  if (!derivatives) return;
+  // Sample-level sparse derivatives -> coefficient-level blocks: A = analysis · (dF/ds) ·
+  // synthesis.
+  p.w_tu.setZero();
+  p.w_tv.setZero();
+  p.g.setZero();
+  for (int k = 0; k < p.n; ++k) {
+    const TangentialDerivative& d = out->law.dT[k];
+    if (d.u_plus >= 0 && d.u_plus != d.u_minus) {
+      p.w_tu.row(k) = params.kt * (p.synthesis.row(d.u_plus) - p.synthesis.row(d.u_minus));
+    }
+    if (d.v_index >= 0 && d.dv != 0.0) p.w_tv.row(k) = d.dv * p.synthesis.row(d.v_index);
+    p.w_nv.row(k) = out->law.dN_dv[k] * p.synthesis.row(k);
+    p.g[k] = d.dalpha;
+  }
+  out->dt_du.noalias() = p.analysis * p.w_tu;
+  out->dt_dv.noalias() = p.analysis * p.w_tv;
+  out->dn_dv.noalias() = p.analysis * p.w_nv;
+  out->dt_dalpha.noalias() = p.analysis * p.g;
+}
+
+}  // namespace fricrom

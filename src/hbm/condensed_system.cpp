@@ -1,0 +1,324 @@
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "fricrom/condensed.h"
+#include "fricrom/contact_forces.h"
+#include "fricrom/hbm.h"
+#include "linear/harmonic_receptance.h"
+
+namespace fricrom {
+namespace {
+
+// Coefficients of harmonic h in the layout [c0, a1, b1, ...].
+std::vector<int> Coefficients(int h) {
+  return h == 0 ? std::vector<int>{0} : std::vector<int>{2 * h - 1, 2 * h};
+}
+
+Eigen::MatrixXd RelativeOperator(const Model& model) {
+  const int nc = static_cast<int>(model.contacts.size());
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(2 * nc, model.num_dofs());
+  for (int c = 0; c < nc; ++c) {
+    const Contact& ct = model.contacts[c];
+    for (int i = 0; i < ct.normal.size(); ++i) {
+      if (ct.dofs_a[i] >= 0) {
+        b(2 * c, ct.dofs_a[i]) += ct.tangent[i];
+        b(2 * c + 1, ct.dofs_a[i]) += ct.normal[i];
+      }
+      if (ct.dofs_b[i] >= 0) {
+        b(2 * c, ct.dofs_b[i]) -= ct.tangent[i];
+        b(2 * c + 1, ct.dofs_b[i]) -= ct.normal[i];
+      }
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
+CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
+    : model_(std::move(model)), options_(options) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("HbmOptions: " + error);
+  model_.Validate();
+  if (!LoadsRepresentable(model_, options_.harmonics, &error)) {
+    throw std::invalid_argument("CondensedSystem: " + error);
+  }
+  const int nc = num_contacts();
+  b_ = RelativeOperator(model_);
+  ks_.resize(2 * nc);
+  w_.resize(2 * nc);
+  for (int c = 0; c < nc; ++c) {
+    const Contact& ct = model_.contacts[c];
+    ks_[2 * c] = ct.kt;
+    ks_[2 * c + 1] = ct.kn;
+    w_[2 * c] = w_[2 * c + 1] = std::max(ct.kn, ct.kt);
+  }
+  sy_ = nc > 0 ? w_.mean() : std::max(model_.stiffness.diagonal().cwiseAbs().maxCoeff(), 1.0);
+  const Eigen::MatrixXd k_stick = model_.stiffness + b_.transpose() * ks_.asDiagonal() * b_;
+  receptance_ = std::make_unique<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
+                                                     options_.harmonics);
+  aft_ = std::make_unique<AftContactForces>(options_);
+  full_ = std::make_unique<HbmSystem>(model_, options_);
+  blocks_.resize(nc);
+}
+
+CondensedSystem::~CondensedSystem() = default;
+
+int CondensedSystem::num_unknowns() const { return block_size() * (2 * options_.harmonics + 1); }
+
+void CondensedSystem::CheckInputs(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) const {
+  if (x.size() != num_unknowns()) {
+    throw std::invalid_argument("CondensedSystem: x has " + std::to_string(x.size()) +
+                                " entries, expected " + std::to_string(num_unknowns()));
+  }
+  if (alpha.size() != num_contacts()) {
+    throw std::invalid_argument("CondensedSystem: alpha has " + std::to_string(alpha.size()) +
+                                " entries, expected one per contact (" +
+                                std::to_string(num_contacts()) + ")");
+  }
+  for (int c = 0; c < alpha.size(); ++c) {
+    if (!(std::abs(alpha[c]) <= 1.0)) {
+      throw std::invalid_argument("CondensedSystem: alpha[" + std::to_string(c) +
+                                  "] must lie in [-1, 1], got " + std::to_string(alpha[c]));
+    }
+  }
+}
+
+Eigen::VectorXd CondensedSystem::ContactForces(const Eigen::VectorXd& x,
+                                               const Eigen::VectorXd& alpha,
+                                               bool derivatives) const {
+  const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
+  Eigen::VectorXd ft(nr * nh);
+  Eigen::VectorXd uh(nh), vh(nh);
+  for (int c = 0; c < nc; ++c) {
+    const Contact& ct = model_.contacts[c];
+    for (int j = 0; j < nh; ++j) {
+      uh[j] = x[Idx(j, 2 * c)];
+      vh[j] = x[Idx(j, 2 * c + 1)];
+    }
+    aft_->Evaluate(ContactLawParams{ct.kn, ct.kt, ct.mu, ct.normal_preload}, uh, vh, alpha[c],
+                   derivatives, &blocks_[c]);
+    for (int j = 0; j < nh; ++j) {
+      ft[j * nr + 2 * c] = blocks_[c].t[j] - ct.kt * uh[j];
+      ft[j * nr + 2 * c + 1] = blocks_[c].n[j] - ct.kn * vh[j];
+    }
+  }
+  return ft;
+}
+
+Eigen::VectorXd CondensedSystem::Stack(int h, const Eigen::VectorXd& coefficient_major) const {
+  const int nr = num_relative();
+  const std::vector<int> js = Coefficients(h);
+  Eigen::VectorXd out(nr * static_cast<int>(js.size()));
+  for (size_t jj = 0; jj < js.size(); ++jj) {
+    out.segment(static_cast<int>(jj) * nr, nr) = coefficient_major.segment(js[jj] * nr, nr);
+  }
+  return out;
+}
+
+Eigen::VectorXd CondensedSystem::Excitation(int h) const {
+  const int n = model_.num_dofs();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(h == 0 ? n : 2 * n);
+  for (const HarmonicLoad& load : model_.loads) {
+    if (load.harmonic != h) continue;
+    f.head(n) += load.cos;
+    if (h > 0) f.tail(n) += load.sin;
+  }
+  return f;
+}
+
+Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd& a) const {
+  const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
+  const std::vector<int> js = Coefficients(h);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.rows(), nr * nh);
+  for (int c = 0; c < nc; ++c) {
+    const ContactForceBlocks& f = blocks_[c];
+    const double kt = ks_[2 * c], kn = ks_[2 * c + 1];
+    for (size_t jj = 0; jj < js.size(); ++jj) {
+      const int j = js[jj];
+      const auto col_t = a.col(static_cast<int>(jj) * nr + 2 * c);      // rows of F̃ (j, T)
+      const auto col_n = a.col(static_cast<int>(jj) * nr + 2 * c + 1);  // rows of F̃ (j, N)
+      for (int l = 0; l < nh; ++l) {
+        const double stick = j == l ? 1.0 : 0.0;
+        out.col(l * nr + 2 * c) += (f.dt_du(j, l) - kt * stick) * col_t;
+        out.col(l * nr + 2 * c + 1) += f.dt_dv(j, l) * col_t + (f.dn_dv(j, l) - kn * stick) * col_n;
+      }
+    }
+  }
+  return out;
+}
+
+void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                               const HbmRequest& request, HbmEvaluation* out) const {
+  CheckInputs(x, alpha);
+  receptance_->SetFrequency(omega);
+  const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
+  const int nh = 2 * options_.harmonics + 1, nx = num_unknowns(), resp = model_.response_dof;
+  const bool derivs = request.jacobian || request.alpha_jacobian;
+  const Eigen::VectorXd ft = ContactForces(x, alpha, derivs);
+  out->residual.resize(nx);
+  if (request.jacobian) out->jacobian.setZero(nx, nx);
+  if (request.alpha_jacobian) out->alpha_jacobian.setZero(nx, nc);
+  if (request.omega_derivative) out->omega_derivative.resize(nx);
+  for (int h = 0; h <= options_.harmonics; ++h) {
+    const std::vector<int> js = Coefficients(h);
+    const int m = static_cast<int>(js.size());
+    const Eigen::MatrixXd& p = receptance_->P(h);
+    const Eigen::MatrixXd& g = receptance_->G(h);
+    const Eigen::VectorXd xt = receptance_->Solve(h, Excitation(h)) - p * Stack(h, ft);
+    const Eigen::VectorXd bx = receptance_->Relative(h, xt);
+    Eigen::MatrixXd pr(m, m * nr);  // response rows of P_h
+    for (int jj = 0; jj < m; ++jj) pr.row(jj) = p.row(jj * n + resp);
+    Eigen::VectorXd dxt, bd;  // ∂x̃_h/∂ω = −Z̃_h⁻¹ (∂Z̃_h/∂ω) x̃_h and B ∂x̃_h/∂ω
+    if (request.omega_derivative) {
+      dxt = -receptance_->Solve(h, receptance_->DzDomegaTimes(h, xt));
+      bd = receptance_->Relative(h, dxt);
+    }
+    for (int jj = 0; jj < m; ++jj) {
+      const int j = js[jj];
+      for (int i = 0; i < nr; ++i) {
+        out->residual[Idx(j, i)] = w_[i] * (x[Idx(j, i)] - bx[jj * nr + i]);
+      }
+      out->residual[Idx(j, nr)] = sy_ * (x[Idx(j, nr)] - xt[jj * n + resp]);
+      if (request.omega_derivative) {
+        for (int i = 0; i < nr; ++i) out->omega_derivative[Idx(j, i)] = -w_[i] * bd[jj * nr + i];
+        out->omega_derivative[Idx(j, nr)] = -sy_ * dxt[jj * n + resp];
+      }
+    }
+    if (request.jacobian) {
+      const Eigen::MatrixXd gdf = TimesForceJacobian(h, g);
+      const Eigen::MatrixXd pdf = TimesForceJacobian(h, pr);
+      for (int jj = 0; jj < m; ++jj) {
+        const int j = js[jj];
+        for (int l = 0; l < nh; ++l) {
+          for (int i2 = 0; i2 < nr; ++i2) {
+            for (int i = 0; i < nr; ++i) {
+              out->jacobian(Idx(j, i), Idx(l, i2)) = w_[i] * gdf(jj * nr + i, l * nr + i2);
+            }
+            out->jacobian(Idx(j, nr), Idx(l, i2)) = sy_ * pdf(jj, l * nr + i2);
+          }
+        }
+        for (int i = 0; i < nr; ++i) out->jacobian(Idx(j, i), Idx(j, i)) += w_[i];
+        out->jacobian(Idx(j, nr), Idx(j, nr)) = sy_;
+      }
+    }
+    if (request.alpha_jacobian) {
+      for (int c = 0; c < nc; ++c) {
+        for (int jj = 0; jj < m; ++jj) {
+          const double dt = blocks_[c].dt_dalpha[js[jj]];
+          if (dt == 0.0) continue;
+          for (int kk = 0; kk < m; ++kk) {
+            for (int i = 0; i < nr; ++i) {
+              out->alpha_jacobian(Idx(js[kk], i), c) +=
+                  w_[i] * g(kk * nr + i, jj * nr + 2 * c) * dt;
+            }
+            out->alpha_jacobian(Idx(js[kk], nr), c) += sy_ * pr(kk, jj * nr + 2 * c) * dt;
+          }
+        }
+      }
+    }
+  }
+}
+
+double CondensedSystem::ResidualScale() const { return full_->ResidualScale(); }
+
+Eigen::VectorXd CondensedSystem::StickLinearSolution(double omega) const {
+  return Condense(full_->StickLinearSolution(omega));
+}
+
+double CondensedSystem::Amplitude(const Eigen::VectorXd& x) const {
+  const int nr = num_relative();
+  return std::hypot(x[Idx(1, nr)], x[Idx(2, nr)]);
+}
+
+Eigen::VectorXd CondensedSystem::AmplitudeSquaredGradient(const Eigen::VectorXd& x) const {
+  const int nr = num_relative();
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(num_unknowns());
+  g[Idx(1, nr)] = 2.0 * x[Idx(1, nr)];
+  g[Idx(2, nr)] = 2.0 * x[Idx(2, nr)];
+  return g;
+}
+
+Eigen::VectorXd CondensedSystem::Recover(const Eigen::VectorXd& x, double omega,
+                                         const Eigen::VectorXd& alpha) const {
+  CheckInputs(x, alpha);
+  receptance_->SetFrequency(omega);
+  const int n = model_.num_dofs();
+  const Eigen::VectorXd ft = ContactForces(x, alpha, false);
+  Eigen::VectorXd full(n * (2 * options_.harmonics + 1));
+  for (int h = 0; h <= options_.harmonics; ++h) {
+    const std::vector<int> js = Coefficients(h);
+    const Eigen::VectorXd xt =
+        receptance_->Solve(h, Excitation(h)) - receptance_->P(h) * Stack(h, ft);
+    for (size_t jj = 0; jj < js.size(); ++jj) {
+      full.segment(js[jj] * n, n) = xt.segment(static_cast<int>(jj) * n, n);
+    }
+  }
+  return full;
+}
+
+Eigen::VectorXd CondensedSystem::Condense(const Eigen::VectorXd& x_full) const {
+  const int n = model_.num_dofs(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
+  if (x_full.size() != n * nh) {
+    throw std::invalid_argument("CondensedSystem::Condense: expected " + std::to_string(n * nh) +
+                                " full coefficients, got " + std::to_string(x_full.size()));
+  }
+  Eigen::VectorXd x(num_unknowns());
+  for (int j = 0; j < nh; ++j) {
+    x.segment(Idx(j, 0), nr) = b_ * x_full.segment(j * n, n);
+    x[Idx(j, nr)] = x_full[j * n + model_.response_dof];
+  }
+  return x;
+}
+
+std::vector<ContactHistory> CondensedSystem::ContactHistories(const Eigen::VectorXd& x,
+                                                              double omega,
+                                                              const Eigen::VectorXd& alpha) const {
+  return full_->ContactHistories(Recover(x, omega, alpha), omega, alpha);
+}
+
+CycleEnergy CondensedSystem::Energies(const Eigen::VectorXd& x, double omega,
+                                      const Eigen::VectorXd& alpha) const {
+  return full_->Energies(Recover(x, omega, alpha), omega, alpha);
+}
+
+double CondensedSystem::LossFactor(const Eigen::VectorXd& x, double omega,
+                                   const Eigen::VectorXd& alpha, const HbmEvaluation& e,
+                                   Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha) const {
+  (void)e;  // η is evaluated on the recovered full solution
+  const Eigen::VectorXd xf = Recover(x, omega, alpha);
+  HbmEvaluation ef;
+  HbmRequest req;
+  req.jacobian = req.alpha_jacobian = grad_x != nullptr;
+  full_->Evaluate(xf, omega, alpha, req, &ef);
+  Eigen::VectorXd gxf, gaf;
+  const double eta =
+      full_->LossFactor(xf, omega, alpha, ef, grad_x ? &gxf : nullptr, grad_x ? &gaf : nullptr);
+  if (grad_x == nullptr) return eta;
+  // Chain rule through x̃(r, α) = Z̃⁻¹(f − Bᵀ F̃(r, α)): ∂x̃_h = −P_h ∂F̃_h.
+  ContactForces(x, alpha, true);  // refresh the derivative blocks at x
+  const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
+  const int nh = 2 * options_.harmonics + 1;
+  grad_x->setZero(num_unknowns());
+  *grad_alpha = gaf;
+  for (int h = 0; h <= options_.harmonics; ++h) {
+    const std::vector<int> js = Coefficients(h);
+    const int m = static_cast<int>(js.size());
+    Eigen::VectorXd gh(m * n);
+    for (int jj = 0; jj < m; ++jj) gh.segment(jj * n, n) = gxf.segment(js[jj] * n, n);
+    const Eigen::RowVectorXd v = -(receptance_->P(h).transpose() * gh).transpose();
+    const Eigen::MatrixXd vdf = TimesForceJacobian(h, v);
+    for (int l = 0; l < nh; ++l) {
+      for (int i = 0; i < nr; ++i) (*grad_x)[Idx(l, i)] += vdf(0, l * nr + i);
+    }
+    for (int c = 0; c < nc; ++c) {
+      for (int jj = 0; jj < m; ++jj)
+        (*grad_alpha)[c] += v[jj * nr + 2 * c] * blocks_[c].dt_dalpha[js[jj]];
+    }
+  }
+  return eta;
+}
+
+}  // namespace fricrom

@@ -1,0 +1,159 @@
+// The condensed harmonic balance against the full one (issue 10): same solutions, exact
+// derivatives (central differences), energy balance, and bounds through the same code path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <set>
+
+#include "fricrom/bounds.h"
+#include "fricrom/condensed.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+struct Pair {
+  Model model;
+  HbmOptions options;
+};
+
+Pair Baseline(int harmonics = 1) {
+  return {testing::LoadBaseline().model, HbmOptions{harmonics, 128}};
+}
+
+// A converged full solution at (f, α) and the condensed system's residual at its condensation.
+TEST(Condensed, FullSolutionsAreCondensedSolutions) {
+  for (int h : {1, 3}) {
+    const Pair p = Baseline(h);
+    HbmSystem full(p.model, p.options);
+    CondensedSystem cond(p.model, p.options);
+    for (double f : {250.0, 262.0, 266.0, 270.0}) {
+      const Eigen::Vector4d alpha(0.3, -0.7, 1.0, 0.0);
+      const FrfPoint sol = SolveAtFrequency(full, alpha, f, Eigen::VectorXd(), FrfOptions{});
+      ASSERT_EQ(sol.status, SolverStatus::kConverged) << f;
+      const Eigen::VectorXd xc = cond.Condense(sol.x);
+      HbmEvaluation e;
+      cond.Evaluate(xc, kTwoPi * f, alpha, HbmRequest{}, &e);
+      EXPECT_LE(e.residual.norm(), 1e-9 * cond.ResidualScale()) << "H " << h << ", " << f << " Hz";
+      const Eigen::VectorXd back = cond.Recover(xc, kTwoPi * f, alpha);
+      EXPECT_LE((back - sol.x).norm(), 1e-9 * sol.x.norm()) << "H " << h << ", " << f << " Hz";
+      EXPECT_NEAR(cond.Amplitude(xc), full.Amplitude(sol.x), 1e-12 * full.Amplitude(sol.x));
+    }
+  }
+}
+
+// Solved independently (its own stick start, its own Newton), the condensed balance lands on the
+// full solution.
+TEST(Condensed, CondensedNewtonReproducesTheFullSolution) {
+  const Pair p = Baseline();
+  HbmSystem full(p.model, p.options);
+  CondensedSystem cond(p.model, p.options);
+  for (double f : {258.0, 262.0, 270.0}) {
+    const Eigen::Vector4d alpha = Eigen::Vector4d::Zero();
+    const FrfPoint a = SolveAtFrequency(full, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    const FrfPoint b = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(a.status, SolverStatus::kConverged);
+    ASSERT_EQ(b.status, SolverStatus::kConverged);
+    EXPECT_NEAR(b.amplitude, a.amplitude, 1e-10 * a.amplitude) << f;
+    const Eigen::VectorXd xb = cond.Recover(b.x, kTwoPi * f, alpha);
+    EXPECT_LE((xb - a.x).norm(), 1e-9 * a.x.norm()) << f;
+  }
+}
+
+// Exact derivatives of the condensed residual against central differences, at points with
+// stick, slip and lift-off (random perturbations of converged solutions).
+TEST(Condensed, DerivativesMatchCentralDifferences) {
+  // A light preload (15 N instead of 150 N) makes the contacts lift off near resonance.
+  const Pair p{testing::LoadBaseline({{"F0_ref", 15.0}}).model, HbmOptions{2, 128}};
+  HbmSystem full(p.model, p.options);
+  CondensedSystem cond(p.model, p.options);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  std::set<ContactState> seen;
+  for (double f : {240.0, 266.0, 285.0}) {
+    const Eigen::Vector4d alpha(0.2, -0.4, 0.6, -0.1);
+    const double w = kTwoPi * f;
+    const FrfPoint sol = SolveAtFrequency(full, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(sol.status, SolverStatus::kConverged);
+    Eigen::VectorXd x = cond.Condense(sol.x);
+    for (int i = 0; i < x.size(); ++i) x[i] *= 1.0 + 0.05 * nd(rng);
+    HbmEvaluation e;
+    HbmRequest all;
+    all.jacobian = all.alpha_jacobian = all.omega_derivative = true;
+    cond.Evaluate(x, w, alpha, all, &e);
+    const double scale = cond.ResidualScale();
+    for (int k = 0; k < x.size(); ++k) {
+      const double hx = 1e-7 * std::max(x.cwiseAbs().maxCoeff(), 1e-12);
+      Eigen::VectorXd xp = x, xm = x;
+      xp[k] += hx;
+      xm[k] -= hx;
+      HbmEvaluation ep, em;
+      cond.Evaluate(xp, w, alpha, HbmRequest{}, &ep);
+      cond.Evaluate(xm, w, alpha, HbmRequest{}, &em);
+      const Eigen::VectorXd fd = (ep.residual - em.residual) / (2 * hx);
+      EXPECT_LE((fd - e.jacobian.col(k)).norm(), 1e-5 * std::max(e.jacobian.col(k).norm(), scale))
+          << "column " << k << " at " << f << " Hz";
+    }
+    for (int c = 0; c < 4; ++c) {
+      Eigen::Vector4d ap = alpha, am = alpha;
+      ap[c] += 1e-6;
+      am[c] -= 1e-6;
+      HbmEvaluation ep, em;
+      cond.Evaluate(x, w, ap, HbmRequest{}, &ep);
+      cond.Evaluate(x, w, am, HbmRequest{}, &em);
+      const Eigen::VectorXd fd = (ep.residual - em.residual) / 2e-6;
+      EXPECT_LE((fd - e.alpha_jacobian.col(c)).norm(), 1e-5 * std::max(fd.norm(), 1e-6 * scale))
+          << "alpha " << c << " at " << f << " Hz";
+    }
+    HbmEvaluation ep, em;
+    cond.Evaluate(x, w * (1 + 1e-7), alpha, HbmRequest{}, &ep);
+    cond.Evaluate(x, w * (1 - 1e-7), alpha, HbmRequest{}, &em);
+    const Eigen::VectorXd fd = (ep.residual - em.residual) / (2e-7 * w);
+    EXPECT_LE((fd - e.omega_derivative).norm(), 1e-5 * std::max(fd.norm(), 1e-9 * scale)) << f;
+    for (const ContactHistory& hist : cond.ContactHistories(x, w, alpha)) {
+      for (ContactState st : hist.states) seen.insert(st);
+    }
+  }
+  // The points exercised every branch of the law: stick, both slip directions, lift-off.
+  EXPECT_EQ(seen.size(), 4u);
+}
+
+// Energy balance at converged condensed solutions: excitation work = viscous + friction.
+TEST(Condensed, EnergyBalanceAtConvergedSolutions) {
+  const Pair p = Baseline();
+  CondensedSystem cond(p.model, p.options);
+  for (double f : {262.0, 266.0, 272.0}) {
+    const Eigen::Vector4d alpha(1.0, -1.0, 0.5, 0.0);
+    const FrfPoint s = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(s.status, SolverStatus::kConverged);
+    const CycleEnergy e = cond.Energies(s.x, kTwoPi * f, alpha);
+    EXPECT_NEAR(e.excitation_work, e.viscous_dissipation + e.friction_dissipation(),
+                1e-8 * e.excitation_work)
+        << f;
+  }
+}
+
+// Bounds through the condensed balance equal the full ones (both objectives).
+TEST(Condensed, BoundsEqualTheFullBounds) {
+  const Pair p = Baseline();
+  HbmSystem full(p.model, p.options);
+  CondensedSystem cond(p.model, p.options);
+  for (auto objective : {BoundsOptions::kAmplitude, BoundsOptions::kLossFactor}) {
+    BoundsOptions o;
+    o.objective = objective;
+    const BoundsResult a = ComputeBounds(full, 266.0, o);
+    const BoundsResult b = ComputeBounds(cond, 266.0, o);
+    ASSERT_TRUE(a.IsUsable() && b.IsUsable()) << a.BriefReport() << "\n" << b.BriefReport();
+    EXPECT_NEAR(b.min.amplitude, a.min.amplitude, 1e-8 * a.max.amplitude);
+    EXPECT_NEAR(b.max.amplitude, a.max.amplitude, 1e-8 * a.max.amplitude);
+  }
+}
+
+}  // namespace
+}  // namespace fricrom
