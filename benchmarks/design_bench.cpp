@@ -2,6 +2,7 @@
 // machine are recorded in benchmarks/README.md.
 #include <benchmark/benchmark.h>
 
+#include "fricrom/balance.h"
 #include "fricrom/bounds.h"
 #include "fricrom/case.h"
 #include "fricrom/design.h"
@@ -50,7 +51,9 @@ void BM_PaperReproduction(benchmark::State& state) {
   so.bounds = bo;
   so.reference_freq_hz = 266.0;
   auto factory = [](const std::string& p) {
-    return [p](double v) { return Load({{p, v}}).model; };
+    return BalanceFactory([p](double v) {
+      return MakeBalance(Load({{p, v}}).model, HbmOptions{1, 128}, BalanceKind::kFull);
+    });
   };
   for (auto _ : state) {
     const BoundsResult* prev = nullptr;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "fricrom/balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom {
@@ -33,6 +34,7 @@ struct AnalysisSettings {
   double freq_min_hz = 0.0;
   double freq_max_hz = 0.0;
   std::vector<double> alpha;  // one per contact, default α
+  BalanceKind balance = BalanceKind::kFull;  // full (lumped default) or condensed
 };
 
 struct Case {

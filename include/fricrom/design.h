@@ -6,16 +6,18 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "fricrom/bounds.h"
-#include "fricrom/hbm.h"
+#include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom {
 
-using ModelFactory = std::function<Model(double parameter)>;
+// The harmonic-balance problem at a parameter value (full or condensed, see balance.h).
+using BalanceFactory = std::function<std::unique_ptr<HarmonicBalance>(double parameter)>;
 
 // Frequency of the peak of the maximum-response bound y_max(f) in [lo, hi]: a coarse scan of
 // `scan_points` bound solves, then golden-section refinement to `tolerance_hz`.
@@ -43,7 +45,6 @@ struct RobustnessPoint {
 };
 
 struct SweepOptions {
-  HbmOptions hbm;
   BoundsOptions bounds;
   // R is evaluated at reference_freq_hz when track_peak is false (the NOA's ω_ref), else at the
   // peak of y_max located for every parameter value within `search`.
@@ -57,7 +58,7 @@ struct SweepOptions {
 // Progress: (done, total).
 using DesignProgress = std::function<void(int, int)>;
 
-std::vector<RobustnessPoint> SweepRobustness(const ModelFactory& factory,
+std::vector<RobustnessPoint> SweepRobustness(const BalanceFactory& factory,
                                              const std::vector<double>& values,
                                              const SweepOptions& options,
                                              const DesignProgress& progress = {});
@@ -94,7 +95,7 @@ struct NoaResult {
   std::string BriefReport() const;
 };
 
-NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
+NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
                  const DesignProgress& progress = {});
 
 }  // namespace fricrom

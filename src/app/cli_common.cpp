@@ -12,6 +12,7 @@ Case CaseArgs::Load(const std::vector<ParameterOverride>& extra) const {
   Case c = LoadCase(path, overrides);
   if (harmonics >= 0) c.analysis.harmonics = harmonics;
   if (samples >= 0) c.analysis.samples_per_period = samples;
+  if (!balance.empty()) FromString(balance, &c.analysis.balance);  // checked by CLI11
   HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
   std::string error;
   if (!ho.IsValid(&error)) {
@@ -33,6 +34,10 @@ void CaseArgs::Register(CLI::App* cmd) {
       ->check(CLI::Range(1, 200));
   cmd->add_option("--samples", samples, "AFT time samples per period (default: the case's)")
       ->check(CLI::Range(4, 1 << 20));
+  cmd->add_option("--balance", balance,
+                  "Harmonic balance: full (every DOF) or condensed (contact DOFs; default of FE "
+                  "assemblies); default: the case's")
+      ->check(CLI::IsMember({"full", "condensed"}));
 }
 
 namespace {
@@ -59,6 +64,11 @@ CLI::Validator NumberAbove(double lower, bool inclusive, const std::string& what
 
 CLI::Validator Positive() { return NumberAbove(0.0, false, "> 0", "POSITIVE"); }
 CLI::Validator NonNegative() { return NumberAbove(0.0, true, ">= 0", "NON-NEGATIVE"); }
+
+std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c) {
+  return MakeBalance(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period},
+                     c.analysis.balance);
+}
 
 std::vector<double> ParseList(const std::string& text, const std::string& flag) {
   std::vector<double> out;

@@ -2,11 +2,13 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "app/hdf5_writer.h"
+#include "fricrom/balance.h"
 #include "fricrom/case.h"
 #include "fricrom/contact.h"
 #include "fricrom/hbm.h"
@@ -25,6 +27,7 @@ struct CaseArgs {
   std::vector<std::string> sets;
   int harmonics = -1;
   int samples = -1;
+  std::string balance;  // "" = the case's
 
   // Loads the case with the overrides; extra overrides (e.g. a swept parameter) come last.
   Case Load(const std::vector<ParameterOverride>& extra = {}) const;
@@ -34,6 +37,9 @@ struct CaseArgs {
 // "> 0 and finite" / ">= 0 and finite", with a short message (CLI11's own prints DBL_MAX in full).
 CLI::Validator Positive();
 CLI::Validator NonNegative();
+
+// The harmonic-balance problem of a loaded case (full or condensed, analysis.balance).
+std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c);
 
 std::vector<double> ParseList(const std::string& text, const std::string& flag);
 std::string Version();

@@ -93,7 +93,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     }
     alpha = Eigen::Map<const Eigen::VectorXd>(al.data(), al.size());
   }
-  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  const auto balance = MakeCaseBalance(c);
+  const HarmonicBalance& system = *balance;
   FrfOptions opt;
   opt.max_step = a.max_step;
   opt.initial_step = std::min(opt.initial_step, a.max_step);

@@ -72,7 +72,7 @@ struct Progress {
   }
 };
 
-void WriteHistories(Hdf5Writer& h5, const std::string& group, const HbmSystem& system,
+void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBalance& system,
                     const BoundSolution& s, double freq_hz) {
   if (!s.IsUsable()) return;
   const auto hist = system.ContactHistories(s.x, kTwoPi * freq_hz, s.alpha);
@@ -178,7 +178,8 @@ struct DesignCommands::State {
   // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
   double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
     if (freq > 0.0) return freq;
-    HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+    const auto balance = MakeCaseBalance(c);
+    const HarmonicBalance& system = *balance;
     ResonanceSearchOptions rs;
     rs.lo_hz = c.analysis.freq_min_hz;
     rs.hi_hz = c.analysis.freq_max_hz;
@@ -276,7 +277,8 @@ int DesignCommands::Run() {
 int DesignCommands::State::RunBounds() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c = bounds_case.Load();
-  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  const auto balance = MakeCaseBalance(c);
+  const HarmonicBalance& system = *balance;
   const BoundsOptions base = MakeBoundsOptions(system.num_contacts());
   std::string error;
   if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
@@ -414,7 +416,6 @@ int DesignCommands::State::RunSweep() {
   const BoundsOptions bo = MakeBoundsOptions(static_cast<int>(c0.model.contacts.size()));
   int solves = 0;
   SweepOptions so;
-  so.hbm = HbmOptions{c0.analysis.harmonics, c0.analysis.samples_per_period};
   so.bounds = bo;
   so.track_peak = track_peak;
   so.search.lo_hz = c0.analysis.freq_min_hz;
@@ -423,7 +424,7 @@ int DesignCommands::State::RunSweep() {
   if (!track_peak) so.reference_freq_hz = ReferenceFrequency(c0, bo, &solves);
   std::vector<double> values;
   for (int i = 0; i < steps; ++i) values.push_back(from + (to - from) * i / (steps - 1));
-  const ModelFactory factory = [&](double p) { return sweep_case.Load({{param, p}}).model; };
+  const BalanceFactory factory = [&](double p) { return MakeCaseBalance(sweep_case.Load({{param, p}})); };
   Progress progress{ShowProgress(), "sweep " + param};
   const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, so, progress);
   progress.Done();
@@ -522,10 +523,9 @@ int DesignCommands::State::RunNoa() {
   no.lower = from;
   no.upper = to;
   no.objective = noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
-  no.inner.hbm = HbmOptions{c0.analysis.harmonics, c0.analysis.samples_per_period};
   no.inner.bounds = bo;
   no.inner.reference_freq_hz = ReferenceFrequency(c0, bo, &ref_solves);
-  const ModelFactory factory = [&](double p) { return noa_case.Load({{param, p}}).model; };
+  const BalanceFactory factory = [&](double p) { return MakeCaseBalance(noa_case.Load({{param, p}})); };
   Progress progress{ShowProgress(), "noa " + param};
   const NoaResult res = fricrom::RunNoa(factory, no, progress);
   progress.Done();
@@ -582,7 +582,8 @@ int DesignCommands::State::RunNoa() {
 int DesignCommands::State::RunVerify() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c = verify_case.Load();
-  HbmSystem system(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period});
+  const auto balance = MakeCaseBalance(c);
+  const HarmonicBalance& system = *balance;
   const int nc = system.num_contacts();
   const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(nc));
   if (!b.IsUsable()) {

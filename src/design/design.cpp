@@ -39,7 +39,7 @@ bool ResonanceSearchOptions::IsValid(std::string* error) const {
 }
 
 bool SweepOptions::IsValid(std::string* error) const {
-  if (!hbm.IsValid(error) || !bounds.IsValid(error)) return false;
+  if (!bounds.IsValid(error)) return false;
   if (track_peak) return search.IsValid(error);
   if (!(reference_freq_hz > 0.0)) {
     *error = "SweepOptions.reference_freq_hz must be > 0 (or set track_peak)";
@@ -115,7 +115,7 @@ ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSear
   return r;
 }
 
-std::vector<RobustnessPoint> SweepRobustness(const ModelFactory& factory,
+std::vector<RobustnessPoint> SweepRobustness(const BalanceFactory& factory,
                                              const std::vector<double>& values,
                                              const SweepOptions& options,
                                              const DesignProgress& progress) {
@@ -124,8 +124,8 @@ std::vector<RobustnessPoint> SweepRobustness(const ModelFactory& factory,
   std::vector<RobustnessPoint> out;
   const BoundsResult* previous = nullptr;
   for (double p : values) {
-    const Model model = factory(p);
-    HbmSystem system(model, options.hbm);
+    const std::unique_ptr<HarmonicBalance> balance = factory(p);
+    const HarmonicBalance& system = *balance;
     const BoundsOptions bo = WithSeeds(options.bounds, system.num_contacts(),
                                        options.warm_start ? previous : nullptr);
     RobustnessPoint pt;
@@ -157,7 +157,7 @@ std::string NoaResult::BriefReport() const {
   return s.str();
 }
 
-NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
+NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
                  const DesignProgress& progress) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
@@ -177,8 +177,8 @@ NoaResult RunNoa(const ModelFactory& factory, const NoaOptions& options,
       if (!nearest || std::abs(h.parameter - p) < std::abs(nearest->parameter - p)) nearest = &h;
     }
     SweepOptions so = options.inner;
-    const Model model = factory(p);
-    HbmSystem system(model, so.hbm);
+    const std::unique_ptr<HarmonicBalance> balance = factory(p);
+    const HarmonicBalance& system = *balance;
     const BoundsOptions bo =
         WithSeeds(so.bounds, system.num_contacts(), nearest ? &nearest->bounds : nullptr);
     RobustnessPoint pt;

@@ -444,7 +444,7 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     if (!an.is_table()) rd.Fail("analysis", "expected a table", &an);
     const toml::table& t = *an.as_table();
     const std::string w = "analysis";
-    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha"});
+    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance"});
     AnalysisSettings& a = cs.analysis;
     const double h = rd.Number(t, w, "harmonics");
     if (h < 1 || h != std::floor(h) || h > 200) rd.Fail(w + ".harmonics", "expected an integer in [1, 200]", t.get("harmonics"));
@@ -479,13 +479,18 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     } else {
       a.alpha.assign(m.contacts.size(), 0.0);
     }
+    if (t.get("balance")) {
+      const std::string b = rd.String(t, w, "balance");
+      if (!FromString(b, &a.balance)) rd.Fail(w + ".balance", "expected \"full\" or \"condensed\", got '" + b + "'", t.get("balance"));
+    }
     toml::array ra;
     for (double v : a.alpha) ra.push_back(v);
     resolved.insert("analysis", toml::table{{"harmonics", a.harmonics},
                                             {"samples_per_period", a.samples_per_period},
                                             {"freq_min_hz", a.freq_min_hz},
                                             {"freq_max_hz", a.freq_max_hz},
-                                            {"alpha", std::move(ra)}});
+                                            {"alpha", std::move(ra)},
+                                            {"balance", ToString(a.balance)}});
   }
   try {
     m.Validate();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fricrom/balance.h"
 #include "fricrom/design.h"
 #include "fricrom/hbm.h"
 #include "test_models.h"
@@ -9,8 +10,11 @@
 namespace fricrom {
 namespace {
 
-ModelFactory Factory(const std::string& param) {
-  return [param](double p) { return testing::LoadBaseline({{param, p}}).model; };
+BalanceFactory Factory(const std::string& param) {
+  return [param](double p) {
+    return MakeBalance(testing::LoadBaseline({{param, p}}).model, HbmOptions{1, 128},
+                       BalanceKind::kFull);
+  };
 }
 
 SweepOptions Inner() {
