@@ -8,130 +8,14 @@
 #include <sstream>
 #include <toml++/toml.h>
 
+#include "case_reader.h"
 #include "fricrom/case.h"
 
 namespace fricrom {
 namespace {
 
-// Error context: file name plus a key path like "contacts[2].theta" and the line of the node.
-class Reader {
- public:
-  Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void Fail(const std::string& key, const std::string& what,
-                         const toml::node* node = nullptr) const {
-    std::ostringstream s;
-    s << source_;
-    if (node && node->source().begin.line > 0) s << ":" << node->source().begin.line;
-    s << ": key '" << key << "': " << what;
-    throw CaseError(s.str());
-  }
-
-  void CheckKeys(const toml::table& t, const std::string& where,
-                 const std::set<std::string>& allowed) const {
-    for (const auto& [k, v] : t) {
-      if (!allowed.count(std::string(k.str()))) {
-        std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        Fail(where.empty() ? std::string(k.str()) : where + "." + std::string(k.str()),
-             "unknown key (expected one of: " + list + ")", &v);
-      }
-    }
-  }
-
-  const toml::node& Require(const toml::table& t, const std::string& where,
-                            const std::string& key) const {
-    const toml::node* n = t.get(key);
-    if (!n) Fail(Join(where, key), "missing (required)");
-    return *n;
-  }
-
-  std::string String(const toml::table& t, const std::string& where, const std::string& key) const {
-    const toml::node& n = Require(t, where, key);
-    if (!n.is_string()) Fail(Join(where, key), "expected a string", &n);
-    return std::string(*n.value<std::string>());
-  }
-
-  std::string StringOr(const toml::table& t, const std::string& where, const std::string& key,
-                       const std::string& fallback) const {
-    return t.get(key) ? String(t, where, key) : fallback;
-  }
-
-  // A number, or a string expression over the case parameters.
-  double Number(const toml::node& n, const std::string& key) const {
-    if (n.is_integer()) return static_cast<double>(*n.value<int64_t>());
-    if (n.is_floating_point()) {
-      const double v = *n.value<double>();
-      if (!std::isfinite(v)) Fail(key, "expected a finite number", &n);
-      return v;
-    }
-    if (n.is_string()) {
-      const std::string expr(*n.value<std::string>());
-      try {
-        mu::Parser p;
-        p.DefineConst("pi", std::numbers::pi);
-        for (const auto& [name, value] : *parameters_) p.DefineConst(name, value);
-        p.SetExpr(expr);
-        const double v = p.Eval();
-        if (!std::isfinite(v)) Fail(key, "expression '" + expr + "' is not finite", &n);
-        return v;
-      } catch (const mu::Parser::exception_type& e) {
-        Fail(key, "cannot evaluate expression '" + expr + "': " + e.GetMsg() +
-                      " (numbers, + - * / ^ ( ), functions and the [parameters] names are allowed)",
-             &n);
-      }
-    }
-    Fail(key, "expected a number or an expression string", &n);
-  }
-
-  double Number(const toml::table& t, const std::string& where, const std::string& key) const {
-    return Number(Require(t, where, key), Join(where, key));
-  }
-  double NumberOr(const toml::table& t, const std::string& where, const std::string& key,
-                  double fallback) const {
-    const toml::node* n = t.get(key);
-    return n ? Number(*n, Join(where, key)) : fallback;
-  }
-  double Positive(const toml::table& t, const std::string& where, const std::string& key) const {
-    const double v = Number(t, where, key);
-    if (!(v > 0.0)) Fail(Join(where, key), "expected a value > 0, got " + Fmt(v), t.get(key));
-    return v;
-  }
-  double NonNegative(const toml::table& t, const std::string& where, const std::string& key) const {
-    const double v = Number(t, where, key);
-    if (!(v >= 0.0)) Fail(Join(where, key), "expected a value >= 0, got " + Fmt(v), t.get(key));
-    return v;
-  }
-  double NonNegative(const toml::table& t, const std::string& where, const std::string& key,
-                     double fallback) const {
-    const double v = NumberOr(t, where, key, fallback);
-    if (!(v >= 0.0)) Fail(Join(where, key), "expected a value >= 0, got " + Fmt(v), t.get(key));
-    return v;
-  }
-
-  const toml::array& Array(const toml::table& t, const std::string& where,
-                           const std::string& key) const {
-    const toml::node& n = Require(t, where, key);
-    if (!n.is_array()) Fail(Join(where, key), "expected an array", &n);
-    return *n.as_array();
-  }
-
-  void SetParameters(const std::map<std::string, double>* p) { parameters_ = p; }
-  static std::string Join(const std::string& where, const std::string& key) {
-    return where.empty() ? key : where + "." + key;
-  }
-  static std::string Fmt(double v) {
-    std::ostringstream s;
-    s.precision(17);
-    s << v;
-    return s.str();
-  }
-  const std::string& source() const { return source_; }
-
- private:
-  std::string source_;
-  const std::map<std::string, double>* parameters_ = nullptr;
-};
+using detail::Reader;
+using detail::TableAt;
 
 struct Body {
   std::string name;
@@ -145,12 +29,6 @@ int DirectionIndex(const Body& b, const std::string& dir) {
     if (b.directions[i] == dir) return b.dofs[i];
   }
   return -1;
-}
-
-const toml::table& TableAt(const Reader& rd, const toml::array& arr, size_t i,
-                           const std::string& where) {
-  if (!arr[i].is_table()) rd.Fail(where, "expected a table ([[...]] entry)", &arr[i]);
-  return *arr[i].as_table();
 }
 
 }  // namespace
@@ -210,27 +88,7 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
   cs.name = rd.String(root, "", "name");
   cs.description = rd.StringOr(root, "", "description", "");
 
-  // Parameters: plain numbers, then CLI overrides (which must name an existing parameter).
-  if (const toml::table* params = root["parameters"].as_table()) {
-    for (const auto& [k, v] : *params) {
-      const std::string key = "parameters." + std::string(k.str());
-      if (!v.is_number()) rd.Fail(key, "parameters must be plain numbers", &v);
-      cs.parameters[std::string(k.str())] = rd.Number(v, key);
-    }
-  } else if (root.get("parameters")) {
-    rd.Fail("parameters", "expected a table", root.get("parameters"));
-  }
-  for (const ParameterOverride& o : overrides) {
-    auto it = cs.parameters.find(o.name);
-    if (it == cs.parameters.end()) {
-      std::string names;
-      for (const auto& [k, v] : cs.parameters) names += (names.empty() ? "" : ", ") + k;
-      throw CaseError(source_name + ": --set " + o.name + ": no such parameter (the case defines: " +
-                      names + ")");
-    }
-    it->second = o.value;
-  }
-  rd.SetParameters(&cs.parameters);
+  detail::ParseParameters(rd, root, overrides, &cs, nullptr);
 
   Model& m = cs.model;
   std::vector<Body> bodies;
@@ -438,60 +296,7 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     resolved.insert("response", toml::table{{"dof", dof}});
   }
 
-  // Analysis settings.
-  {
-    const toml::node& an = rd.Require(root, "", "analysis");
-    if (!an.is_table()) rd.Fail("analysis", "expected a table", &an);
-    const toml::table& t = *an.as_table();
-    const std::string w = "analysis";
-    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance"});
-    AnalysisSettings& a = cs.analysis;
-    const double h = rd.Number(t, w, "harmonics");
-    if (h < 1 || h != std::floor(h) || h > 200) rd.Fail(w + ".harmonics", "expected an integer in [1, 200]", t.get("harmonics"));
-    a.harmonics = static_cast<int>(h);
-    for (size_t i = 0; i < larr.size(); ++i) {  // a load H cannot represent is an error, not dropped
-      const int lh = static_cast<int>(rd.Number(*larr[i].as_table(), "loads", "harmonic"));
-      if (lh > a.harmonics) {
-        rd.Fail("loads[" + std::to_string(i) + "].harmonic",
-                "harmonic " + std::to_string(lh) + " exceeds analysis.harmonics = " +
-                    std::to_string(a.harmonics) + " (raise harmonics or remove the load)",
-                larr[i].as_table()->get("harmonic"));
-      }
-    }
-    const double ns = rd.Number(t, w, "samples_per_period");
-    if (ns != std::floor(ns) || ns <= 2 * h || ns < 4 || ns > 1 << 20) {
-      rd.Fail(w + ".samples_per_period", "expected an integer >= 4 and > 2*harmonics", t.get("samples_per_period"));
-    }
-    a.samples_per_period = static_cast<int>(ns);
-    a.freq_min_hz = rd.Positive(t, w, "freq_min_hz");
-    a.freq_max_hz = rd.Positive(t, w, "freq_max_hz");
-    if (!(a.freq_max_hz > a.freq_min_hz)) rd.Fail(w + ".freq_max_hz", "must exceed freq_min_hz", t.get("freq_max_hz"));
-    if (t.get("alpha")) {
-      const toml::array& al = rd.Array(t, w, "alpha");
-      for (size_t i = 0; i < al.size(); ++i) {
-        const double v = rd.Number(al[i], w + ".alpha[" + std::to_string(i) + "]");
-        if (!(std::abs(v) <= 1.0)) rd.Fail(w + ".alpha[" + std::to_string(i) + "]", "expected a value in [-1, 1]", &al[i]);
-        a.alpha.push_back(v);
-      }
-      if (a.alpha.size() != m.contacts.size()) {
-        rd.Fail(w + ".alpha", "expected one value per contact (" + std::to_string(m.contacts.size()) + ")", t.get("alpha"));
-      }
-    } else {
-      a.alpha.assign(m.contacts.size(), 0.0);
-    }
-    if (t.get("balance")) {
-      const std::string b = rd.String(t, w, "balance");
-      if (!FromString(b, &a.balance)) rd.Fail(w + ".balance", "expected \"full\" or \"condensed\", got '" + b + "'", t.get("balance"));
-    }
-    toml::array ra;
-    for (double v : a.alpha) ra.push_back(v);
-    resolved.insert("analysis", toml::table{{"harmonics", a.harmonics},
-                                            {"samples_per_period", a.samples_per_period},
-                                            {"freq_min_hz", a.freq_min_hz},
-                                            {"freq_max_hz", a.freq_max_hz},
-                                            {"alpha", std::move(ra)},
-                                            {"balance", ToString(a.balance)}});
-  }
+  detail::ParseAnalysis(rd, root, larr, m.contacts.size(), BalanceKind::kFull, &cs.analysis, &resolved);
   try {
     m.Validate();
   } catch (const std::invalid_argument& e) {
