@@ -51,6 +51,12 @@ struct Case {
 // Reads and builds a case. Unknown keys, missing keys, bad values and unknown override names
 // throw CaseError.
 Case LoadCase(const std::string& path, const std::vector<ParameterOverride>& overrides = {});
+// Writes a lumped case as an FE assembly case (fricrom-assembly-1) in `directory`: the blades as
+// one FE body with a node per blade, each damper a one-node FE body (Matrix Market K, M, C with a
+// DOF map), the contacts as node pairs with their frames. Returns the case file's path. Throws
+// CaseError when the model is not block-diagonal over those bodies.
+std::string ExportAssembly(const Case& c, const std::string& directory);
+
 Case ParseCase(const std::string& toml_text, const std::string& source_name,
                const std::vector<ParameterOverride>& overrides = {});
 

@@ -317,6 +317,12 @@ int Run(int argc, char** argv) {
 
   CLI::App* casecmd = app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
   case_args.Register(casecmd);
+  CaseArgs export_args;
+  std::string export_dir;
+  CLI::App* exportcmd = app.add_subcommand(
+      "export-fe", "Write a lumped case as an FE assembly case (Matrix Market bodies, node pairs)");
+  export_args.Register(exportcmd);
+  exportcmd->add_option("--to", export_dir, "Output directory")->required();
 
   DesignCommands design;
   design.Register(app);
@@ -336,6 +342,10 @@ int Run(int argc, char** argv) {
     if (*modes) return RunModes(modes_args, modes_json);
     if (*frf) return RunFrf(frf_args, fa);
     if (*casecmd) return RunCase(case_args);
+    if (*exportcmd) {
+      std::cout << "wrote " << ExportAssembly(export_args.Load(), export_dir) << "\n";
+      return 0;
+    }
     const int rc = design.Run();
     if (rc >= 0) return rc;
     const int fe_rc = fe.Run();

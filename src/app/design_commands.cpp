@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -99,9 +100,22 @@ void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBala
 
 std::string Status(const BoundSolution& s) { return ToString(s.status); }
 
+// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
+// pair) count once.
+int ContactPairs(const Model& model) {
+  std::vector<std::pair<std::vector<int>, std::vector<int>>> seen;
+  for (const Contact& c : model.contacts) {
+    const auto key = std::make_pair(c.dofs_a, c.dofs_b);
+    if (std::find(seen.begin(), seen.end(), key) == seen.end()) seen.push_back(key);
+  }
+  return static_cast<int>(seen.size());
+}
+
 json BoundsJson(const Model& model, const BoundsResult& b) {
   json j;
   j["freq_hz"] = b.freq_hz;
+  j["contact_pairs"] = ContactPairs(model);
+  j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.contacts.size();
   j["y_min"] = Num(b.min.amplitude);
   j["y_max"] = Num(b.max.amplitude);
   j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor

@@ -75,13 +75,16 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
       << ": TOML syntax error: " << e.description();
     throw CaseError(s.str());
   }
+  if (const toml::node* sn = root.get("schema"); sn && sn->value<std::string>() == "fricrom-assembly-1") {
+    return detail::ParseAssembly(root, source_name, overrides);
+  }
   rd.CheckKeys(root, "", {"schema", "name", "description", "units", "parameters", "bodies",
                           "springs", "contacts", "loads", "response", "analysis"});
   Case cs;
   cs.source = source_name;
   const std::string schema = rd.String(root, "", "schema");
   if (schema != "fricrom-case-1") {
-    rd.Fail("schema", "expected \"fricrom-case-1\", got \"" + schema + "\"", root.get("schema"));
+    rd.Fail("schema", "expected \"fricrom-case-1\" (lumped) or \"fricrom-assembly-1\" (FE), got \"" + schema + "\"", root.get("schema"));
   }
   const std::string units = rd.String(root, "", "units");
   if (units != "SI") rd.Fail("units", "only \"SI\" is supported, got \"" + units + "\"", root.get("units"));

@@ -156,4 +156,8 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                    size_t num_contacts, BalanceKind default_balance, AnalysisSettings* a,
                    toml::table* resolved);
 
+// The FE assembly schema (fricrom-assembly-1), after the TOML parse (assembly_file.cpp).
+Case ParseAssembly(const toml::table& root, const std::string& source_name,
+                   const std::vector<ParameterOverride>& overrides);
+
 }  // namespace fricrom::detail

@@ -1,0 +1,50 @@
+// FE assembly cases at the command line: the lumped benchmark as FE data gives the lumped bounds
+// (1e-8), and bounds report the contact pairs and the number of alpha.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/cli_test_util.h"
+
+namespace {
+
+using json = nlohmann::json;
+using fricrom::testing::CliRun;
+using fricrom::testing::Quote;
+using fricrom::testing::Stdout;
+using fricrom::testing::TempDir;
+
+const std::string kDir = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/";
+
+TEST(AssemblyCli, BoundsThroughTheFePathEqualTheLumpedBounds) {
+  TempDir tmp;
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun fe =
+      Stdout("bounds " + Quote(kDir + "as_fe/case.toml") + " --freq 266 --json" + out);
+  const CliRun lumped =
+      Stdout("bounds " + Quote(kDir + "baseline.toml") + " --freq 266 --json" + out);
+  ASSERT_EQ(fe.exit_code, 0) << fe.output;
+  ASSERT_EQ(lumped.exit_code, 0) << lumped.output;
+  const json a = json::parse(fe.output), b = json::parse(lumped.output);
+  for (const char* key : {"y_min", "y_max"}) {
+    EXPECT_NEAR(a.at(key).get<double>(), b.at(key).get<double>(), 1e-8 * b.at(key).get<double>())
+        << key;
+  }
+  EXPECT_EQ(a.at("contact_pairs"), 4);
+  EXPECT_EQ(a.at("alpha_count"), 4);
+  EXPECT_EQ(b.at("contact_pairs"), 4);
+}
+
+TEST(AssemblyCli, FrfThroughTheFePathEqualsTheLumpedFrf) {
+  TempDir tmp;
+  const std::string args = " --freq 258,262,270 --json --out " + Quote(tmp.path().string());
+  const json a = json::parse(Stdout("frf " + Quote(kDir + "as_fe/case.toml") + args).output);
+  const json b = json::parse(Stdout("frf " + Quote(kDir + "baseline.toml") + args).output);
+  for (int i = 0; i < 3; ++i) {
+    const double ya = a.at("points")[i].at("amplitude"), yb = b.at("points")[i].at("amplitude");
+    EXPECT_NEAR(ya, yb, 1e-8 * yb) << i;
+  }
+}
+
+}  // namespace
