@@ -1,6 +1,7 @@
 // Small models built by hand for the tests.
 #pragma once
 
+#include <algorithm>
 #include <string>
 
 #include "fricrom/case.h"
@@ -61,6 +62,66 @@ inline Model BouncingOscillator(double force) {
   model.response_dof = 0;
   model.free_dofs = {0, 1};
   return model;
+}
+
+// An FE-like assembly with `pairs` node-to-node contacts: a "platform" strip of `pairs` nodes
+// (3 DOFs each, neighbour springs, grounded like a blade root) and a "damper" strip of as many
+// nodes (neighbour springs, weak grounding), node i of each strip in contact along z (normal,
+// damper pressed down by a static load per node) with friction along x or y (alternating, so
+// both in-plane directions carry friction). Harmonic forces at the platform's first quarter.
+// Stick, slip and lift-off all occur over 800-1400 Hz at the default load.
+inline Model ContactStrip(int pairs, double force = 40.0) {
+  const int n = 6 * pairs;
+  Model m;
+  m.mass = Eigen::MatrixXd::Zero(n, n);
+  m.stiffness = Eigen::MatrixXd::Zero(n, n);
+  m.damping = Eigen::MatrixXd::Zero(n, n);
+  const char* comp[] = {"x", "y", "z"};
+  auto dof = [pairs](int strip, int node, int c) { return 3 * (strip * pairs + node) + c; };
+  for (int strip = 0; strip < 2; ++strip) {
+    for (int i = 0; i < pairs; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const int d = dof(strip, i, c);
+        m.dof_names.push_back(std::string(strip ? "damper." : "platform.") + std::to_string(i) +
+                              "." + comp[c]);
+        m.mass(d, d) = strip ? 0.002 : 0.01;
+        m.stiffness(d, d) += strip ? 2e3 : 4e5;  // grounding
+        if (strip == 0) m.free_dofs.push_back(d);
+        if (i + 1 < pairs) {  // neighbour spring
+          const int e = dof(strip, i + 1, c);
+          const double k = strip ? 5e5 : 2e6;
+          m.stiffness(d, d) += k;
+          m.stiffness(e, e) += k;
+          m.stiffness(d, e) -= k;
+          m.stiffness(e, d) -= k;
+        }
+      }
+    }
+  }
+  m.damping = 2e-6 * m.stiffness;  // Rayleigh, stiffness-proportional
+  HarmonicLoad stat{0, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  HarmonicLoad dyn{1, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n)};
+  for (int i = 0; i < pairs; ++i) {
+    Contact ct;
+    ct.name = "pair" + std::to_string(i);
+    ct.dofs_a = {dof(1, i, 0), dof(1, i, 1), dof(1, i, 2)};  // damper node (A) ...
+    ct.dofs_b = {dof(0, i, 0), dof(0, i, 1), dof(0, i, 2)};  // ... on the platform node (B)
+    ct.normal = Eigen::Vector3d(0.0, 0.0, -1.0);             // from A into B: down
+    ct.tangent = i % 2 == 0 ? Eigen::Vector3d(1.0, 0.0, 0.0) : Eigen::Vector3d(0.0, 1.0, 0.0);
+    ct.kn = 1e6;
+    ct.kt = 8e5;
+    ct.mu = 0.4;
+    m.contacts.push_back(ct);
+    stat.cos[dof(1, i, 2)] = -20.0;  // presses the damper down onto the platform
+    if (i < std::max(1, pairs / 4)) {
+      dyn.cos[dof(0, i, 0)] = force;
+      dyn.cos[dof(0, i, 1)] = 0.5 * force;
+      dyn.cos[dof(0, i, 2)] = 0.3 * force;
+    }
+  }
+  m.loads = {stat, dyn};
+  m.response_dof = dof(0, pairs / 2, 0);
+  return m;
 }
 
 }  // namespace fricrom::testing
