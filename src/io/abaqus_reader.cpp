@@ -117,7 +117,7 @@ DofId ReadDof(std::string_view node, std::string_view dof, const std::string& pa
 }  // namespace
 
 FeModel ReadAbaqusMatrix(const std::string& path) {
-  const std::string text = fe_text::ReadWholeFile(path, "Abaqus matrix file");
+  const std::string text = fe_text::ReadCompleteTextFile(path, "Abaqus matrix file");
   FeModel model;
   model.source = path;
   model.format = "abaqus";

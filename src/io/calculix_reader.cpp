@@ -17,7 +17,7 @@ namespace {
 using fe_text::Fail;
 
 std::vector<DofId> ReadDofFile(const std::string& path) {
-  const std::string text = fe_text::ReadWholeFile(path, "CalculiX .dof file");
+  const std::string text = fe_text::ReadCompleteTextFile(path, "CalculiX .dof file");
   std::vector<DofId> dofs;
   std::vector<size_t> lines;
   size_t pos = 0, number = 0;
@@ -47,7 +47,7 @@ std::vector<DofId> ReadDofFile(const std::string& path) {
 
 FeMatrix ReadTriplets(const std::string& path, const std::string& name,
                       const std::vector<DofId>& dofs) {
-  const std::string text = fe_text::ReadWholeFile(path, "CalculiX matrix file");
+  const std::string text = fe_text::ReadCompleteTextFile(path, "CalculiX matrix file");
   FeMatrix m;
   m.name = name;
   m.rows = m.cols = static_cast<int64_t>(dofs.size());
@@ -84,6 +84,20 @@ FeMatrix ReadTriplets(const std::string& path, const std::string& name,
            "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
                std::to_string(e.col + 1) + " (the .dof file lists " + std::to_string(m.rows) +
                " DOFs)");
+    }
+  }
+  // CalculiX writes the diagonal term of every DOF (its last line is the last diagonal): a missing
+  // one means the file was cut, even exactly at a line end.
+  std::vector<bool> diagonal(dofs.size(), false);
+  for (const auto& e : entries) {
+    if (e.row == e.col) diagonal[static_cast<size_t>(e.row)] = true;
+  }
+  for (size_t k = 0; k < diagonal.size(); ++k) {
+    if (!diagonal[k]) {
+      Fail(path, number,
+           "no diagonal term for DOF " + std::to_string(k + 1) + " (" +
+               fe_text::DescribeDof(dofs[k]) + ") of the " + std::to_string(dofs.size()) +
+               " in the .dof file; CalculiX writes every diagonal term: the file is truncated");
     }
   }
   fe_text::AssembleEntries(path, entries, true, m, describe);

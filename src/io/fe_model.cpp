@@ -82,6 +82,19 @@ std::string ReadWholeFile(const std::string& path, const std::string& what) {
   return text;
 }
 
+std::string ReadCompleteTextFile(const std::string& path, const std::string& what) {
+  std::string text = ReadWholeFile(path, what);
+  if (text.empty()) Fail(path, 0, "empty " + what);
+  if (text.back() != '\n') {
+    size_t lines = 1;
+    for (char c : text) lines += c == '\n';
+    Fail(path, lines,
+         "the last line has no line break: the " + what + " is truncated (" +
+             std::to_string(text.size()) + " bytes; exporters end every line with a line break)");
+  }
+  return text;
+}
+
 // Next line of `text` from `pos` (without the line break and a trailing '\r'); false at the end.
 bool NextLine(std::string_view text, size_t& pos, std::string_view& line) {
   if (pos >= text.size()) return false;
@@ -405,7 +418,7 @@ void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,
 
 // DOF-map sidecar: a header line `node,component`, then one `node,component` line per row.
 std::vector<DofId> ReadDofCsv(const std::string& path) {
-  const std::string text = ReadWholeFile(path, "DOF map (node,component CSV)");
+  const std::string text = ReadCompleteTextFile(path, "DOF map (node,component CSV)");
   std::vector<DofId> dofs;
   std::vector<size_t> lines;
   size_t pos = 0, number = 0;

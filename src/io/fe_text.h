@@ -35,6 +35,10 @@ std::string Printable(std::string_view s);
 // Throws FeReadError "file:line: what" (line 0: no line).
 [[noreturn]] void Fail(const std::string& file, size_t line, const std::string& what);
 std::string ReadWholeFile(const std::string& path, const std::string& what);
+// ReadWholeFile for line-oriented exports (every exporter ends the last line with a line break):
+// an empty file, or one whose last line has no line break, is a truncated file and an error.
+// (A cut exactly at a line end cannot be seen this way; the readers check declared counts.)
+std::string ReadCompleteTextFile(const std::string& path, const std::string& what);
 // Next line of text from pos (without the line break); false at the end.
 bool NextLine(std::string_view text, size_t& pos, std::string_view& line);
 std::string_view Trim(std::string_view s);

@@ -44,7 +44,7 @@ constexpr std::string_view kNameComment = "% name:";
 }  // namespace
 
 FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv) {
-  const std::string text = fe_text::ReadWholeFile(path, "Matrix Market file");
+  const std::string text = fe_text::ReadCompleteTextFile(path, "Matrix Market file");
   FeModel model;
   model.source = path;
   model.format = "matrix-market";

@@ -73,8 +73,12 @@ class PunchReader {
   explicit PunchReader(std::string path) : path_(std::move(path)) {}
 
   FeModel Read() {
-    const std::string text = fe_text::ReadWholeFile(path_, "Nastran punch/bulk data file");
+    const std::string text = fe_text::ReadCompleteTextFile(path_, "Nastran punch/bulk data file");
     Parse(text);
+    if (dmigs_.empty() && grids_.empty() && extrn_.empty() && systems_.empty()) {
+      FailAt(0, "no DMIG, EXTRN, GRID or CORD2R card found: not a Nastran punch/bulk data file "
+                "fricrom can read");
+    }
     return Build();
   }
 
@@ -347,6 +351,7 @@ class PunchReader {
                               std::to_string(f3));
     }
     DofId col{f3, Component(c, 2, "column component CJ")};
+    const size_t before = d.entries.size();
     for (size_t q = 4; q < c.fields.size(); q += 4) {
       if (c.Blank(q) && c.Blank(q + 1) && c.Blank(q + 2) && c.Blank(q + 3)) continue;
       if (c.Blank(q)) {
@@ -373,6 +378,13 @@ class PunchReader {
       if (e.b_given) e.b = Real(c, q + 3, "the value Bi");
       e.line = c.LineOf(q);
       d.entries.push_back(e);
+    }
+    // Exporters never write a column without terms: a column card with none is a card cut off
+    // before its continuation (a truncated file).
+    if (d.entries.size() == before) {
+      FailAt(c.LineOf(1), "DMIG " + name + " column " + fe_text::DescribeDof(col) +
+                              " has no terms (expected Gi Ci Ai on the card or its "
+                              "continuation): truncated card or file");
     }
   }
 
