@@ -58,7 +58,8 @@ std::vector<int> ParseComponents(const std::string& text) {
   return out;
 }
 
-// The stiffness and mass matrices of a model: given names, else the usual export names.
+// The stiffness and mass matrices of a model: given names, else the usual export names, else the
+// only matrix of a one-matrix file (Abaqus *_STIF1.mtx / *_MASS1.mtx, Matrix Market).
 const FeMatrix& PickMatrix(const FeModel& m, const std::string& given,
                            const std::vector<std::string>& defaults, const std::string& flag,
                            const std::string& file) {
@@ -66,6 +67,7 @@ const FeMatrix& PickMatrix(const FeModel& m, const std::string& given,
   for (const std::string& name : tries) {
     if (const FeMatrix* mat = m.Find(name)) return *mat;
   }
+  if (given.empty() && m.matrices.size() == 1) return m.matrices[0];
   std::string names;
   for (const FeMatrix& mat : m.matrices) names += (names.empty() ? "" : ", ") + mat.name;
   throw CLI::ValidationError(flag, "no matrix " + (given.empty() ? "named any of the defaults" : "'" + given + "'") +
@@ -128,6 +130,37 @@ struct ReduceCommands::State {
   CLI::App* reduce = nullptr;
   CLI::App* check = nullptr;
   std::string model_path, boundary, components = "all", to, stiffness_name, mass_name;
+  std::string mass_file, boundary_nodes, sets_file;
+
+  // Boundary DOFs: named node sets (of the deck or --sets), or node / grid ids.
+  BoundarySelection SelectBoundary(FeModel& model, const FeMatrix& k,
+                                   const std::vector<int>& comps) const {
+    std::vector<std::string> sets = SplitNames(boundary);
+    const char* flag = "--boundary";
+    if (!boundary_nodes.empty()) {
+      flag = "--boundary-nodes";
+      NodeSet ids{"--boundary-nodes", {}};
+      for (const std::string& t : SplitNames(boundary_nodes)) {
+        try {
+          size_t used = 0;
+          const long long v = std::stoll(t, &used);
+          if (used != t.size()) throw std::invalid_argument(t);
+          ids.nodes.push_back(v);
+        } catch (const std::exception&) {
+          throw CLI::ValidationError("--boundary-nodes", "'" + t + "' is not a node id (expected ID[,ID...])");
+        }
+      }
+      if (ids.nodes.empty()) throw CLI::ValidationError("--boundary-nodes", "no node id given");
+      model.node_sets.push_back(ids);
+      sets = {"--boundary-nodes"};
+    }
+    if (sets.size() == 1 && (sets[0] == "none" || sets[0] == "NONE")) return {};
+    try {
+      return SelectBoundaryDofs(model, k, sets, comps);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError(flag, e.what());
+    }
+  }
   std::string dofs_path;
   int modes = 0;
   double cutoff_hz = 0.0, shift_hz = 0.0, modal_damping = -1.0, check_tolerance = 1e-8;
@@ -146,26 +179,31 @@ struct ReduceCommands::State {
     if (fs::path(to).extension() != ".h5") {
       throw CLI::ValidationError("--to", "expected an HDF5 output OUT.h5, got '" + to + "'");
     }
-    Progress("reading " + model_path);
+    if (boundary.empty() == boundary_nodes.empty()) {
+      throw CLI::ValidationError("--boundary/--boundary-nodes",
+                                 "give exactly one of --boundary SET[,SET...] (or 'none') or "
+                                 "--boundary-nodes ID[,ID...]");
+    }
+    Progress("reading " + model_path + (mass_file.empty() ? "" : " and " + mass_file));
     const auto t_read = Clock::now();
-    const FeModel model = ReadFe(model_path);
+    FeModel model = ReadFe(model_path);
+    const FeModel mass_model = mass_file.empty() ? FeModel{} : ReadFe(mass_file);
+    if (!sets_file.empty()) ReadInpNodesAndSets(sets_file, model);
     const double read_s = std::chrono::duration<double>(Clock::now() - t_read).count();
     const FeMatrix& k = PickMatrix(model, stiffness_name, {"STIFFNESS", "KAAX", "KXX", "K"}, "--stiffness", model_path);
-    const FeMatrix& m = PickMatrix(model, mass_name, {"MASS", "MAAX", "MXX", "M"}, "--mass", model_path);
-    if (k.rows != m.rows || k.row_dofs != m.row_dofs) {
-      throw CLI::ValidationError("--mass", "stiffness " + k.name + " and mass " + m.name +
-                                               " have different sizes or DOF maps");
+    const std::string& mass_path = mass_file.empty() ? model_path : mass_file;
+    const FeMatrix& m = PickMatrix(mass_file.empty() ? model : mass_model, mass_name,
+                                   {"MASS", "MAAX", "MXX", "M"}, "--mass", mass_path);
+    if (k.rows != m.rows || k.cols != m.cols || k.row_dofs != m.row_dofs) {
+      throw CLI::ValidationError(
+          mass_file.empty() ? "--mass" : "--mass-file",
+          "stiffness " + k.name + " (" + model_path + ", " + std::to_string(k.rows) + " rows) and mass " +
+              m.name + " (" + mass_path + ", " + std::to_string(m.rows) +
+              " rows) have different sizes or DOF maps: they must come from the same model");
     }
-    const std::vector<std::string> sets = SplitNames(boundary);
     const std::vector<int> comps = ParseComponents(components);
-    BoundarySelection sel;
-    if (!(sets.size() == 1 && (sets[0] == "none" || sets[0] == "NONE"))) {
-      try {
-        sel = SelectBoundaryDofs(model, k, sets, comps);
-      } catch (const std::invalid_argument& e) {
-        throw CLI::ValidationError("--boundary", e.what());
-      }
-    }
+    BoundarySelection sel = SelectBoundary(model, k, comps);
+    const std::vector<std::string> sets = SplitNames(boundary);
     CraigBamptonOptions opt;
     opt.num_modes = modes > 0 ? modes : 20;
     opt.cutoff_hz = cutoff_hz;
@@ -456,7 +494,13 @@ void ReduceCommands::Register(CLI::App& app) {
   s.reduce->add_option("model", s.model_path,
                        "FE model with stiffness and mass: CalculiX job (.inp deck beside .sti/.mas/.dof), "
                        "or any file `fricrom info` reads")->required();
-  s.reduce->add_option("--boundary", s.boundary, "Boundary node sets kept physical: SET[,SET...] (or 'none')")->required();
+  s.reduce->add_option("--boundary", s.boundary, "Boundary node sets kept physical: SET[,SET...] (or 'none')");
+  s.reduce->add_option("--boundary-nodes", s.boundary_nodes,
+                       "Boundary nodes / Nastran grids by id: ID[,ID...] (all their DOFs, or --components)");
+  s.reduce->add_option("--sets", s.sets_file,
+                       "Deck with *NSET / *NODE NSET= node sets (Abaqus/CalculiX syntax) for --boundary");
+  s.reduce->add_option("--mass-file", s.mass_file,
+                       "Mass matrix from this file (any format `fricrom info` reads); stiffness from MODEL");
   s.reduce->add_option("--components", s.components, "Boundary components, e.g. 123 (default: all the model has)");
   s.reduce->add_option("--modes", s.modes, "Number of fixed-interface modes")->check(CLI::PositiveNumber);
   s.reduce->add_option("--cutoff-hz", s.cutoff_hz, "Keep every fixed-interface mode up to this frequency [Hz]")

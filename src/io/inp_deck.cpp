@@ -219,8 +219,10 @@ void ReadInpNodesAndSets(const std::string& path, FeModel& model) {
   }
   ReadDeck(path, st, 0);
   // Every set member must be a defined node: a set naming an unknown node would silently drop
-  // boundary DOFs later.
-  for (size_t s = 0; s < model.node_sets.size(); ++s) {
+  // boundary DOFs later. A sets-only deck (no *NODE at all, e.g. `reduce --sets` beside matrices
+  // whose DOF maps carry the nodes) is checked by its user against the matrix DOF map instead.
+  const bool defines_nodes = !st.node_index.empty();
+  for (size_t s = 0; defines_nodes && s < model.node_sets.size(); ++s) {
     for (const int64_t n : model.node_sets[s].nodes) {
       if (!st.node_index.count(n)) {
         Fail(st.member_origin[s].first, st.member_origin[s].second,

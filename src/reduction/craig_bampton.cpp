@@ -141,8 +141,14 @@ bool CraigBamptonOptions::IsValid(std::string* error) const {
 }
 
 double CraigBamptonChecks::Max() const {
-  return std::max({stiffness_symmetry, mass_symmetry, stiffness_coupling, modal_mass,
-                   modal_stiffness, eigen_residual});
+  // NaN-propagating: std::max drops a NaN, and a check that produced NaN must fail the run.
+  double worst = 0.0;
+  for (double v : {stiffness_symmetry, mass_symmetry, stiffness_coupling, modal_mass,
+                   modal_stiffness, eigen_residual}) {
+    if (!(v <= worst)) worst = v;  // takes v when v > worst or v is NaN
+    if (std::isnan(worst)) return worst;
+  }
+  return worst;
 }
 
 std::string CraigBamptonSummary::BriefReport() const {
@@ -403,7 +409,11 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
   out.mass = 0.5 * (out.mass + out.mass.transpose()).eval();
   s.assembly_s = Seconds(t0);
 
-  if (ch.Max() > options.check_tolerance) {
+  if (!out.stiffness.allFinite() || !out.mass.allFinite()) {
+    return finish(CraigBamptonStatus::kChecksFailed,
+                  "the reduced K or M holds non-finite values (singular interior or mass?)");
+  }
+  if (!(ch.Max() <= options.check_tolerance)) {  // NaN fails too
     char buf[128];
     std::snprintf(buf, sizeof buf, "structural check %.3e exceeds check_tolerance %.1e",
                   ch.Max(), options.check_tolerance);

@@ -181,11 +181,26 @@ Eigen::VectorXd ReducedEigenvalues(const Eigen::MatrixXd& stiffness, const Eigen
     throw std::invalid_argument("ReducedEigenvalues: K and M must be square and the same size");
   }
   if (stiffness.size() == 0) return {};
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(stiffness, mass);
-  if (es.info() != Eigen::Success) {
-    throw std::invalid_argument("ReducedEigenvalues: the mass matrix is not positive definite");
+  if (!stiffness.allFinite() || !mass.allFinite()) {
+    throw std::invalid_argument("ReducedEigenvalues: K or M holds non-finite values");
   }
-  return es.eigenvalues();
+  // Through a Cholesky factor of K - sigma M, not of M: a reduced mass matrix is only positive
+  // semi-definite when boundary DOFs carry no mass (massless nodes, lumped masses without rotary
+  // inertia); their infinite eigenvalues are dropped. sigma = 0 for a supported body, else a
+  // negative shift (free body: K singular).
+  const Eigen::SparseMatrix<double> k = stiffness.sparseView(), m = mass.sparseView();
+  const double ratio = stiffness.diagonal().cwiseAbs().maxCoeff() /
+                       std::max(mass.diagonal().cwiseAbs().maxCoeff(), 1e-300);
+  Eigen::VectorXd lambda;
+  Eigen::MatrixXd phi;
+  std::string error;
+  for (double sigma : {0.0, -1e-6 * ratio, -1e-3 * ratio, -ratio}) {
+    if (reduction_detail::DenseLowestModes(k, m, sigma, static_cast<int>(stiffness.rows()), &lambda,
+                                           &phi, &error)) {
+      return lambda;
+    }
+  }
+  throw std::invalid_argument("ReducedEigenvalues: " + error + " for every shift tried");
 }
 
 namespace {
