@@ -1,0 +1,67 @@
+// Speed of the condensed harmonic balance on FE-like contact assemblies (issue 10):
+// testing::ContactStrip(pairs) - 6·pairs DOFs, `pairs` node-to-node contacts. Results and the
+// machine: benchmarks/README.md.
+#include <benchmark/benchmark.h>
+
+#include <numbers>
+
+#include "fricrom/condensed.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm.h"
+#include "test_models.h"
+
+namespace {
+
+using namespace fricrom;
+constexpr double kTwoPi = 2 * std::numbers::pi;
+constexpr double kFreq = 1000.0;
+
+// Residual + exact Jacobian at a converged state, frequency unchanged (receptance reused).
+void BM_CondensedResidualJacobian(benchmark::State& state) {
+  const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  CondensedSystem sys(testing::ContactStrip(pairs), HbmOptions{h, 64});
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(pairs, -0.9, 0.9);
+  const FrfPoint p = SolveAtFrequency(sys, alpha, kFreq, Eigen::VectorXd(), FrfOptions{});
+  HbmEvaluation e;
+  for (auto _ : state) {
+    sys.Evaluate(p.x, kTwoPi * kFreq, alpha, HbmRequest{true, false, false}, &e);
+    benchmark::DoNotOptimize(e.jacobian.data());
+  }
+  state.counters["unknowns"] = sys.num_unknowns();
+  state.counters["converged"] = p.status == SolverStatus::kConverged;
+}
+BENCHMARK(BM_CondensedResidualJacobian)
+    ->Args({50, 1})->Args({100, 1})->Args({200, 1})->Args({100, 3})
+    ->Unit(benchmark::kMillisecond);
+
+// One converged solve at one frequency from the stick start (receptance factorised inside).
+void BM_CondensedSolve(benchmark::State& state) {
+  const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(pairs, -0.9, 0.9);
+  CondensedSystem sys(testing::ContactStrip(pairs), HbmOptions{h, 64});
+  int converged = 0;
+  for (auto _ : state) {
+    CondensedSystem fresh(testing::ContactStrip(pairs), HbmOptions{h, 64});  // cold receptance
+    const FrfPoint p = SolveAtFrequency(fresh, alpha, kFreq, Eigen::VectorXd(), FrfOptions{});
+    converged = p.status == SolverStatus::kConverged;
+    benchmark::DoNotOptimize(p.amplitude);
+  }
+  state.counters["converged"] = converged;
+}
+BENCHMARK(BM_CondensedSolve)
+    ->Args({50, 1})->Args({100, 1})->Args({200, 1})->Args({100, 3})
+    ->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// The same solve through the full (uncondensed) balance, for the ratio.
+void BM_FullSolve(benchmark::State& state) {
+  const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(pairs, -0.9, 0.9);
+  HbmSystem sys(testing::ContactStrip(pairs), HbmOptions{h, 64});
+  for (auto _ : state) {
+    const FrfPoint p = SolveAtFrequency(sys, alpha, kFreq, Eigen::VectorXd(), FrfOptions{});
+    benchmark::DoNotOptimize(p.amplitude);
+  }
+}
+BENCHMARK(BM_FullSolve)->Args({50, 1})->Args({100, 1})->Unit(benchmark::kMillisecond)->Iterations(2);
+
+}  // namespace
