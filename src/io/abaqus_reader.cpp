@@ -121,7 +121,8 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
   FeModel model;
   model.source = path;
   model.format = "abaqus";
-  FeMatrix m;
+  // Filled in place: moving a FeMatrix copies Eigen's per-column index (O(cols) memory).
+  FeMatrix& m = model.matrices.emplace_back();
   m.name = std::filesystem::path(path).stem().string();
 
   std::vector<std::string_view> tokens;
@@ -247,7 +248,6 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
     };
   }
   fe_text::AssembleEntries(path, entries, m.symmetric, m, describe);
-  model.matrices.push_back(std::move(m));
   return model;
 }
 

@@ -358,8 +358,7 @@ void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entr
     size_t stored = 0;
     for (const TextEntry& e : entries) stored += symmetric && e.row != e.col ? 2 : 1;
     Eigen::SparseMatrix<double>& a = m.real;
-    a = Eigen::SparseMatrix<double>(static_cast<Eigen::Index>(m.rows),
-                                    static_cast<Eigen::Index>(m.cols));
+    a.resize(static_cast<Eigen::Index>(m.rows), static_cast<Eigen::Index>(m.cols));  // in place
     a.resizeNonZeros(static_cast<Eigen::Index>(stored));
     int* outer = a.outerIndexPtr();
     int* inner = a.innerIndexPtr();
@@ -369,10 +368,11 @@ void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entr
       if (symmetric && e.row != e.col) ++outer[e.row + 1];
     }
     for (int64_t j = 0; j < m.cols; ++j) outer[j + 1] += outer[j];
-    std::vector<int> next(outer, outer + m.cols);
+    // outer[c] serves as column c's insertion point, restored by one shift afterwards: no second
+    // per-column array (a matrix declared 10^8 x 10^8 with two entries must not cost 400 MB more).
     std::vector<double> imag(m.is_complex ? stored : 0);
     const auto put = [&](int64_t r, int64_t c, const TextEntry& e) {
-      const int p = next[static_cast<size_t>(c)]++;
+      const int p = outer[c]++;
       inner[p] = static_cast<int>(r);
       value[p] = e.re;
       if (m.is_complex) imag[static_cast<size_t>(p)] = e.im;
@@ -382,6 +382,8 @@ void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entr
       put(e.row, e.col, e);
       if (symmetric && e.row != e.col) put(e.col, e.row, e);
     }
+    for (int64_t j = m.cols; j > 0; --j) outer[j] = outer[j - 1];
+    outer[0] = 0;
     if (m.is_complex) {
       m.imag = a;
       std::copy(imag.begin(), imag.end(), m.imag.valuePtr());

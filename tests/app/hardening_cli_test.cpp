@@ -134,4 +134,21 @@ TEST(CliHardening, ParseErrorsAreShortAndPrefixed) {
   EXPECT_EQ(h.exit_code, 0);
 }
 
+// Defect 4: a file declaring 10^8 x 10^8 with two entries converts to a file of its entries
+// (was 800 MB of CSC column pointers; the layout is now coordinate triplets).
+TEST(CliHardening, HugeDeclaredSparseMatrixStaysSmallOnDisk) {
+  TempDir tmp;
+  const fs::path in = tmp.path() / "a.mtx", out = tmp.path() / "o.h5";
+  std::ofstream(in) << "99999999 99999999 1.0\n1 1 2.0\n";
+  const CliRun r = Stdout("convert " + Quote(in.string()) + " --to " + Quote(out.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(out));
+  EXPECT_LT(fs::file_size(out), 100000u);
+  const CliRun i = Stdout("info " + Quote(in.string()) + " --json");
+  ASSERT_EQ(i.exit_code, 0) << i.output;
+  const json j = json::parse(i.output);
+  EXPECT_EQ(j.at("matrices")[0].at("nnz"), 2);
+  EXPECT_EQ(j.at("matrices")[0].at("rows"), 99999999);
+}
+
 }  // namespace
