@@ -274,14 +274,7 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
   resolved.insert("contacts", std::move(rcontacts));
   ParseAnalysis(rd, root, rd.Array(root, "", "loads"), cs.model.contacts.size(),
                 BalanceKind::kCondensed, &cs.analysis, &resolved);
-  try {
-    cs.model.Validate();
-  } catch (const std::invalid_argument& e) {
-    throw CaseError(source_name + ": inconsistent model: " + e.what());
-  }
-  std::ostringstream out;
-  out << resolved;
-  cs.resolved = out.str();
+  FinishCase(resolved, &cs);
   return cs;
 }
 

@@ -300,14 +300,7 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
   }
 
   detail::ParseAnalysis(rd, root, larr, m.contacts.size(), BalanceKind::kFull, &cs.analysis, &resolved);
-  try {
-    m.Validate();
-  } catch (const std::invalid_argument& e) {
-    throw CaseError(source_name + ": inconsistent model: " + e.what());
-  }
-  std::ostringstream out;
-  out << resolved;
-  cs.resolved = out.str();
+  detail::FinishCase(resolved, &cs);
   return cs;
 }
 

@@ -90,4 +90,15 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                                             {"balance", ToString(a.balance)}});
 }
 
+void FinishCase(const toml::table& resolved, Case* cs) {
+  try {
+    cs->model.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(cs->source + ": inconsistent model: " + e.what());
+  }
+  std::ostringstream out;
+  out << resolved;
+  cs->resolved = out.str();
+}
+
 }  // namespace fricrom::detail

@@ -156,6 +156,9 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                    size_t num_contacts, BalanceKind default_balance, AnalysisSettings* a,
                    toml::table* resolved);
 
+// Validates the assembled model (CaseError naming cs->source) and stores the resolved TOML.
+void FinishCase(const toml::table& resolved, Case* cs);
+
 // The FE assembly schema (fricrom-assembly-1), after the TOML parse (assembly_file.cpp).
 Case ParseAssembly(const toml::table& root, const std::string& source_name,
                    const std::vector<ParameterOverride>& overrides);
