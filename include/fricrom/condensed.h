@@ -24,6 +24,7 @@ class HarmonicReceptance;
 class AftContactForces;
 class HbmSystem;
 struct ContactForceBlocks;
+struct AftDerivatives;
 
 class CondensedSystem : public HarmonicBalance {
  public:
@@ -64,7 +65,7 @@ class CondensedSystem : public HarmonicBalance {
   void CheckInputs(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) const;
   // Contact forces F̃ (coefficient-major, 2 rows per contact) at x; blocks_ keep derivatives.
   Eigen::VectorXd ContactForces(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
-                                bool derivatives) const;
+                                AftDerivatives derivatives) const;
   // Stacked F̃ (or r) of harmonic h: [coef 2h−1 rows; coef 2h rows], or coef 0.
   Eigen::VectorXd Stack(int h, const Eigen::VectorXd& coefficient_major) const;
   // A (rows × m·nr, m = coefficients of harmonic h) times ∂F̃_h/∂r -> rows × nh·nr.

@@ -21,6 +21,13 @@ struct ContactForceBlocks {
   ContactLawResult law;       // T, N, states at the samples
 };
 
+// Which coefficient-level derivatives Evaluate computes (each costs N·(2H+1) per product).
+struct AftDerivatives {
+  bool displacement = false;  // dt_du, dt_dv, dn_dv
+  bool alpha = false;         // dt_dalpha
+  bool any() const { return displacement || alpha; }
+};
+
 // Owns the FFTW plans and scratch of one harmonic/sample setting; Evaluate is not re-entrant
 // (one object per thread).
 class AftContactForces {
@@ -34,7 +41,7 @@ class AftContactForces {
   int num_samples() const;
   // uh, vh: 2H+1 coefficients each; |α| ≤ 1.
   void Evaluate(const ContactLawParams& params, const Eigen::VectorXd& uh,
-                const Eigen::VectorXd& vh, double alpha, bool derivatives,
+                const Eigen::VectorXd& vh, double alpha, AftDerivatives derivatives,
                 ContactForceBlocks* out) const;
 
  private:

@@ -114,7 +114,7 @@ int AftContactForces::num_coefficients() const { return plans_->nh; }
 int AftContactForces::num_samples() const { return plans_->n; }
 
 void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::VectorXd& uh,
-                                const Eigen::VectorXd& vh, double alpha, bool derivatives,
+                                const Eigen::VectorXd& vh, double alpha, AftDerivatives derivatives,
                                 ContactForceBlocks* out) const {
   Plans& p = *plans_;
   if (uh.size() != p.nh || vh.size() != p.nh) {
@@ -123,10 +123,10 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
   }
   p.ToTime(uh, &out->u);
   p.ToTime(vh, &out->v);
-  EvaluateContactLaw(params, out->u, out->v, alpha, derivatives, &out->law);
+  EvaluateContactLaw(params, out->u, out->v, alpha, derivatives.any(), &out->law);
   p.ToFrequency(out->law.tangential, &out->t);
   p.ToFrequency(out->law.normal, &out->n);
-  if (!derivatives) return;
+  if (!derivatives.any()) return;
   // Sample-level sparse derivatives -> coefficient-level blocks: A = analysis · (dF/ds) ·
   // synthesis.
   p.w_tu.setZero();
@@ -141,10 +141,12 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
     p.w_nv.row(k) = out->law.dN_dv[k] * p.synthesis.row(k);
     p.g[k] = d.dalpha;
   }
-  out->dt_du.noalias() = p.analysis * p.w_tu;
-  out->dt_dv.noalias() = p.analysis * p.w_tv;
-  out->dn_dv.noalias() = p.analysis * p.w_nv;
-  out->dt_dalpha.noalias() = p.analysis * p.g;
+  if (derivatives.displacement) {
+    out->dt_du.noalias() = p.analysis * p.w_tu;
+    out->dt_dv.noalias() = p.analysis * p.w_tv;
+    out->dn_dv.noalias() = p.analysis * p.w_nv;
+  }
+  if (derivatives.alpha) out->dt_dalpha.noalias() = p.analysis * p.g;
 }
 
 }  // namespace fricrom

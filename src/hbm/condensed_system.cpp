@@ -88,7 +88,7 @@ void CondensedSystem::CheckInputs(const Eigen::VectorXd& x, const Eigen::VectorX
 
 Eigen::VectorXd CondensedSystem::ContactForces(const Eigen::VectorXd& x,
                                                const Eigen::VectorXd& alpha,
-                                               bool derivatives) const {
+                                               AftDerivatives derivatives) const {
   const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
   Eigen::VectorXd ft(nr * nh);
   Eigen::VectorXd uh(nh), vh(nh);
@@ -156,8 +156,8 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
   receptance_->SetFrequency(omega);
   const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
   const int nh = 2 * options_.harmonics + 1, nx = num_unknowns(), resp = model_.response_dof;
-  const bool derivs = request.jacobian || request.alpha_jacobian;
-  const Eigen::VectorXd ft = ContactForces(x, alpha, derivs);
+  const Eigen::VectorXd ft =
+      ContactForces(x, alpha, AftDerivatives{request.jacobian, request.alpha_jacobian});
   out->residual.resize(nx);
   if (request.jacobian) out->jacobian.setZero(nx, nx);
   if (request.alpha_jacobian) out->alpha_jacobian.setZero(nx, nc);
@@ -246,7 +246,7 @@ Eigen::VectorXd CondensedSystem::Recover(const Eigen::VectorXd& x, double omega,
   CheckInputs(x, alpha);
   receptance_->SetFrequency(omega);
   const int n = model_.num_dofs();
-  const Eigen::VectorXd ft = ContactForces(x, alpha, false);
+  const Eigen::VectorXd ft = ContactForces(x, alpha, AftDerivatives{});
   Eigen::VectorXd full(n * (2 * options_.harmonics + 1));
   for (int h = 0; h <= options_.harmonics; ++h) {
     const std::vector<int> js = Coefficients(h);
@@ -298,7 +298,7 @@ double CondensedSystem::LossFactor(const Eigen::VectorXd& x, double omega,
       full_->LossFactor(xf, omega, alpha, ef, grad_x ? &gxf : nullptr, grad_x ? &gaf : nullptr);
   if (grad_x == nullptr) return eta;
   // Chain rule through x̃(r, α) = Z̃⁻¹(f − Bᵀ F̃(r, α)): ∂x̃_h = −P_h ∂F̃_h.
-  ContactForces(x, alpha, true);  // refresh the derivative blocks at x
+  ContactForces(x, alpha, AftDerivatives{true, true});  // refresh the derivative blocks at x
   const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
   const int nh = 2 * options_.harmonics + 1;
   grad_x->setZero(num_unknowns());

@@ -96,7 +96,7 @@ struct HbmSystem::Workspace {
   explicit Workspace(const HbmOptions& options) : aft(options) {}
   // AFT of one contact of `sys` at x: relative coefficients (uh, vh) -> forces f.
   void Aft(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& x, double alpha,
-           bool derivatives) {
+           AftDerivatives derivatives = {}) {
     RelativeCoefficients(sys, c, c.tangent, x, &uh);
     RelativeCoefficients(sys, c, c.normal, x, &vh);
     aft.Evaluate(LawParams(c), uh, vh, alpha, derivatives, &f);
@@ -170,7 +170,7 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
   const bool derivs = request.jacobian || request.alpha_jacobian;
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
-    w.Aft(*this, c, x, alpha[ci], derivs);
+    w.Aft(*this, c, x, alpha[ci], AftDerivatives{request.jacobian, request.alpha_jacobian});
 
     const int dim = static_cast<int>(c.normal.size());
     // Residual: side A gets +(N n + T t), side B the opposite.
@@ -287,7 +287,7 @@ std::vector<ContactHistory> HbmSystem::ContactHistories(const Eigen::VectorXd& x
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
     ContactHistory hist;
-    w.Aft(*this, c, x, alpha[ci], false);
+    w.Aft(*this, c, x, alpha[ci]);
     const int n = w.aft.num_samples();
     hist.u = w.f.u;
     hist.v = w.f.v;
@@ -324,7 +324,7 @@ CycleEnergy HbmSystem::Energies(const Eigen::VectorXd& x, double omega,
   Workspace& w = *work_;
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
-    w.Aft(*this, c, x, alpha[ci], false);
+    w.Aft(*this, c, x, alpha[ci]);
     double diss = 0.0;  // ∮ (T du + N dv), harmonic by harmonic
     for (int h = 1; h <= options_.harmonics; ++h) {
       diss += pi * h *
