@@ -24,6 +24,17 @@
 namespace fricrom {
 namespace {
 
+// Interior size up to which a cutoff search that needs a large share of the spectrum finishes
+// with the dense generalized eigensolver (a few minutes at this size) instead of failing.
+constexpr int kDenseFallbackMax = 6000;
+
+std::string CutoffAdvice(double cutoff_hz, int nev, int ni) {
+  return "; --cutoff-hz " + std::to_string(cutoff_hz) + " asks for more than " +
+         std::to_string(nev) + " of the " + std::to_string(ni) +
+         " interior modes, beyond shift-invert Lanczos and the dense limit of " +
+         std::to_string(kDenseFallbackMax) + " interior DOFs: lower the cutoff or give --modes";
+}
+
 using reduction_detail::CholmodFactor;
 using reduction_detail::EigsResult;
 using reduction_detail::ShiftInvertEigs;
@@ -285,21 +296,39 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
         ++s.eigen_batches;
         s.eigen_restarts += r.restarts;
         s.operator_applications = op.applications();
-        if (!r.converged) {
+        // A cutoff high in the spectrum asks Lanczos for a large share of all modes (it slows
+        // down, then stops: dsaupd info 3 when massless DOFs leave fewer finite modes): such a
+        // search finishes with the dense solver when the interior is small enough, else stops
+        // saying why.
+        const bool searching = by_cutoff && nev > first_nev;
+        if (!r.converged && !(searching && ni <= kDenseFallbackMax)) {
           s.eigen_s = Seconds(t0);
-          return finish(CraigBamptonStatus::kEigenNotConverged, r.message);
+          return finish(CraigBamptonStatus::kEigenNotConverged,
+                        r.message + (searching ? CutoffAdvice(options.cutoff_hz, nev, ni) : ""));
+        }
+        if (!r.converged) {
+          go_dense = true;
+          note = "ARPACK stopped at " + std::to_string(nev) + " modes (" + r.message +
+                 ") while searching the cutoff; dense eigensolver used";
+          break;
         }
         modes.lambda = r.lambda;
         modes.phi = r.vectors;
         if (!by_cutoff || r.lambda(nev - 1) > lambda_cut) break;
-        if (nev >= ni - 2) {  // every mode below the cutoff: finish densely
+        if (nev >= ni - 2 || 2 * nev > ni / 4) {  // a large share of the spectrum: go dense
+          if (ni > kDenseFallbackMax) {
+            s.eigen_s = Seconds(t0);
+            return finish(CraigBamptonStatus::kEigenNotConverged,
+                          "the " + std::to_string(nev) + " lowest interior modes all lie below " +
+                              "the cutoff" + CutoffAdvice(options.cutoff_hz, nev, ni));
+          }
           go_dense = true;
           break;
         }
         nev = std::min(2 * nev, ni - 2);
       }
       if (go_dense) {
-        note = "cutoff above all ARPACK-reachable modes, dense eigensolver used";
+        if (note.empty()) note = "cutoff high in the spectrum, dense eigensolver used";
         if (!DenseModes(kb.ii, mb.ii, options.shift, &modes, &err)) {
           s.eigen_s = Seconds(t0);
           return finish(CraigBamptonStatus::kFactorizationFailed, err);

@@ -57,5 +57,32 @@ TEST(SemidefiniteMass, ANanCheckFailsTheRun) {
   EXPECT_EQ(ok.Max(), 3e-12);
 }
 
+// Issue 9, defect 6 (cutoff part): a cutoff above (nearly) the whole spectrum, on an interior
+// too large for the dense path, with massless interior DOFs (fewer finite modes than DOFs):
+// the ARPACK search finishes with the dense solver and keeps every finite mode, instead of
+// running for minutes or stopping with dsaupd info 3.
+TEST(SemidefiniteMass, CutoffAboveTheSpectrumFinishesDensely) {
+  const int n = 300;
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n), m = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    k(i, i) = i + 1 < n ? 2000.0 : 1000.0;
+    if (i > 0) k(i, i - 1) = k(i - 1, i) = -1000.0;
+    m(i, i) = i % 10 == 5 ? 0.0 : 1.0;  // 30 massless DOFs
+  }
+  CraigBamptonOptions opt;
+  opt.cutoff_hz = 1e6;  // above every finite mode
+  opt.dense_eigen_max_size = 20;
+  CraigBamptonSummary s;
+  const ReducedModel red = ReduceCraigBampton(k.sparseView(), m.sparseView(), {0}, opt, &s);
+  ASSERT_EQ(s.status, CraigBamptonStatus::kSuccess) << s.BriefReport();
+  EXPECT_TRUE(s.dense_eigensolver);
+  EXPECT_EQ(static_cast<int>(s.frequencies_hz.size()), n - 1 - 30);  // every finite interior mode
+  EXPECT_TRUE(red.stiffness.allFinite() && red.mass.allFinite());
+  // All finite modes kept: the reduced spectrum is the full one.
+  const Eigen::VectorXd full = ReducedEigenvalues(k, m), reduced = ReducedEigenvalues(red.stiffness, red.mass);
+  ASSERT_EQ(reduced.size(), full.size());
+  for (int j = 0; j < full.size(); j += 25) EXPECT_NEAR(reduced[j], full[j], 1e-7 * full[j]);
+}
+
 }  // namespace
 }  // namespace fricrom
