@@ -23,13 +23,13 @@
 #include "fricrom/hbm.h"
 #include "fricrom/linear.h"
 #include "fricrom/time_integration.h"
+#include "fricrom/units.h"
 
 namespace fricrom::app {
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

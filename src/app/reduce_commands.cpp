@@ -17,6 +17,7 @@
 #include "app/hdf5_writer.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/reduction.h"
+#include "fricrom/units.h"
 
 namespace fricrom::app {
 namespace {
@@ -24,7 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 double PeakRssMb() {
   rusage u{};

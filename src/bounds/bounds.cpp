@@ -18,11 +18,11 @@
 #include "optimise_bounds.h"
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // A returned point counts as a solution only if ‖R‖ ≤ kFeasibility · ResidualScale().
 constexpr double kFeasibility = 1e-6;
 // Stall test: scaled constraint violation (max-norm of R / ResidualScale()) and iteration count.

@@ -11,12 +11,12 @@
 
 #include "fricrom/bounds.h"
 #include "fricrom/frf.h"
+#include "fricrom/units.h"
 #include "optimise_bounds.h"
 
 namespace fricrom {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // A sample beats a bound only by more than this relative margin (solver tolerances are ~1e-10).
 constexpr double kBeatMargin = 1e-7;
 

@@ -20,6 +20,7 @@
 #include "blas_gemm.h"
 #include "dense_modes.h"
 #include "fricrom/reduction.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
@@ -266,9 +267,8 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
 
   // ---- 4. Fixed-interface modes.
   t0 = Clock::now();
-  const double two_pi = 2.0 * std::numbers::pi;
   const bool by_cutoff = options.cutoff_hz > 0.0;
-  const double lambda_cut = std::pow(two_pi * options.cutoff_hz, 2);
+  const double lambda_cut = std::pow(kTwoPi * options.cutoff_hz, 2);
   Modes modes;
   Eigen::MatrixXd mii_phi = Eigen::MatrixXd::Zero(ni, 0);
   std::string note;
@@ -368,7 +368,7 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
   s.modes = nq;
   out.modal_frequencies_hz.resize(nq);
   for (int j = 0; j < nq; ++j) {
-    out.modal_frequencies_hz(j) = std::sqrt(std::max(modes.lambda(j), 0.0)) / two_pi;
+    out.modal_frequencies_hz(j) = std::sqrt(std::max(modes.lambda(j), 0.0)) / kTwoPi;
     s.frequencies_hz.push_back(out.modal_frequencies_hz(j));
   }
   out.normal_modes = modes.phi;

@@ -1,4 +1,5 @@
 #include "fricrom/frf.h"
+#include "fricrom/units.h"
 
 #include <cmath>
 #include <numbers>
@@ -6,7 +7,6 @@
 
 namespace fricrom {
 namespace {
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::vector<ContactRegime> Regimes(const HarmonicBalance& system, const Eigen::VectorXd& x, double omega,
                                    const Eigen::VectorXd& alpha) {

@@ -26,11 +26,11 @@
 #include <string>
 
 #include "fricrom/linear.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // One contact's geometry (ground entries dropped) and its incremental law state.
 struct ContactTerm {
