@@ -28,17 +28,41 @@ struct DofId {
   friend bool operator==(const DofId&, const DofId&) = default;
 };
 
+// Coordinate form of a matrix: 0-based entries sorted by column, then row, each position once;
+// symmetric storage expanded to both triangles as in FeMatrix::real. Memory by nonzeros only.
+struct FeCoordinates {
+  std::vector<int64_t> row, col;
+  std::vector<double> re;
+  std::vector<double> im;  // same length as re when the matrix is complex, else empty
+};
+
 struct FeMatrix {
   std::string name;
   int64_t rows = 0;
   int64_t cols = 0;
-  bool symmetric = false;             // declared symmetric in the file; storage is expanded
+  bool symmetric = false;  // declared symmetric in the file; storage is expanded
   bool is_complex = false;
-  int source_precision_bits = 64;     // 32 for single-precision sources
-  Eigen::SparseMatrix<double> real;   // full (both triangles), rows x cols
-  Eigen::SparseMatrix<double> imag;   // same shape when is_complex, else empty
-  std::vector<DofId> row_dofs;        // empty when the file carries no DOF map
+  int source_precision_bits = 64;    // 32 for single-precision sources
+  Eigen::SparseMatrix<double> real;  // full (both triangles), rows x cols
+  Eigen::SparseMatrix<double> imag;  // same shape when is_complex, else empty
+  std::vector<DofId> row_dofs;       // empty when the file carries no DOF map
   std::vector<DofId> col_dofs;
+  // Read with FeReadOptions::coordinate: the entries are in `coo`, and real/imag stay empty.
+  bool coordinate = false;
+  FeCoordinates coo;
+};
+
+// Reader options; the defaults give every matrix in compressed-column form (FeMatrix::real).
+struct FeReadOptions {
+  // Only the matrix of this name (case-insensitive) is kept, "" = all. The others are still read
+  // for errors but never assembled (no per-column storage); a name the file lacks is an error.
+  std::string only_matrix;
+  // Coordinate form (FeMatrix::coo) instead of compressed columns, which cost 4 bytes per
+  // declared column: for listing and converting huge sparse matrices. Dimensions up to 2^53.
+  bool coordinate = false;
+  // Largest storage one matrix may take, in bytes; 0 = the physical memory. Compressed columns
+  // also need dimensions below 2^31 (Eigen's index).
+  uint64_t memory_limit_bytes = 0;
 };
 
 struct FeNode {
@@ -82,23 +106,28 @@ struct FeModel {
 };
 
 // Readers. Each throws FeReadError on bad input; none returns a partially read matrix.
-FeModel ReadOp4(const std::string& path);                  // Nastran OUTPUT4, ASCII or binary
-FeModel ReadNastranPunch(const std::string& path);         // DMIG (+ EXTRN, GRID, CORD2R) .pch
-FeModel ReadAbaqusMatrix(const std::string& path);         // *MATRIX GENERATE .mtx
+FeModel ReadOp4(const std::string& path,
+                const FeReadOptions& options = {});  // Nastran OUTPUT4, ASCII or binary
+FeModel ReadNastranPunch(const std::string& path,
+                         const FeReadOptions& options = {});  // DMIG (+ EXTRN, GRID, CORD2R) .pch
+FeModel ReadAbaqusMatrix(const std::string& path,
+                         const FeReadOptions& options = {});  // *MATRIX GENERATE .mtx
 // prefix.sti, prefix.mas, prefix.dof; plus nodes and node sets of the deck prefix.inp when present.
-FeModel ReadCalculix(const std::string& prefix);
+FeModel ReadCalculix(const std::string& prefix, const FeReadOptions& options = {});
 // Nodes (*NODE, rectangular coordinates) and node sets (*NSET with or without GENERATE, NSET= of
 // *NODE) of an Abaqus/CalculiX input deck, following *INCLUDE (relative to the including file);
 // other keywords and their data lines are skipped. Appended to `model`.
 void ReadInpNodesAndSets(const std::string& path, FeModel& model);
 // Matrix Market coordinate real general/symmetric; DOF map from `dof_csv` (node,component rows)
 // when given.
-FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv = "");
+FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv = "",
+                         const FeReadOptions& options = {});
 // Writes every value with %.17g; the DOF-map sidecar when the matrix has one. Atomic writes.
+// Takes either storage (FeMatrix::coordinate).
 void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
                        const std::string& dof_csv = "");
 // Chooses the reader from the file's extension and content (a CalculiX deck `job.inp` reads
 // job.sti/job.mas/job.dof beside it).
-FeModel ReadFe(const std::string& path);
+FeModel ReadFe(const std::string& path, const FeReadOptions& options = {});
 
 }  // namespace fricrom

@@ -15,37 +15,54 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-// max |A - Aᵀ| <= 1e-12 max|A| by entry look-ups: O(nnz log), no transposed copy (a copy costs
-// memory per column, which a huge sparse matrix must not).
-bool PartSymmetric(const Eigen::SparseMatrix<double>& a) {
-  double amax = 0.0, diff = 0.0;
-  for (int j = 0; j < a.outerSize(); ++j) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it) {
-      amax = std::max(amax, std::abs(it.value()));
-      diff = std::max(diff, std::abs(it.value() - a.coeff(it.col(), it.row())));
-    }
-  }
-  return diff <= 1e-12 * std::max(amax, 1e-300);
+// info and convert read every matrix in coordinate form: memory by entries, never by the
+// declared dimensions (a 10^8-column matrix with two entries costs bytes, not 400 MB of column
+// index).
+FeReadOptions Coordinates(const std::string& only_matrix = "") {
+  FeReadOptions o;
+  o.coordinate = true;
+  o.only_matrix = only_matrix;
+  return o;
 }
 
+// max |A - Aᵀ| <= 1e-12 max|A| (real and imaginary parts) by binary search of each transposed
+// position in the (column, row)-sorted entries: O(nnz log nnz), no copy.
 bool IsSymmetric(const FeMatrix& m) {
   if (m.rows != m.cols) return false;
-  return PartSymmetric(m.real) && (!m.is_complex || PartSymmetric(m.imag));
-}
-
-// Stored entries (complex: positions where the real or the imaginary part is stored).
-int64_t Nonzeros(const FeMatrix& m) {
-  if (!m.is_complex) return m.real.nonZeros();
-  const Eigen::SparseMatrix<double> pattern = m.real.cwiseAbs() + m.imag.cwiseAbs();
-  return pattern.nonZeros();
+  const FeCoordinates& c = m.coo;
+  const size_t n = c.re.size();
+  const auto at = [&](int64_t row, int64_t col, const std::vector<double>& v) {
+    size_t lo = 0, hi = n;  // first k with (col[k], row[k]) >= (col, row)
+    while (lo < hi) {
+      const size_t mid = (lo + hi) / 2;
+      if (std::make_pair(c.col[mid], c.row[mid]) < std::make_pair(col, row)) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+    return lo < n && c.col[lo] == col && c.row[lo] == row ? v[lo] : 0.0;
+  };
+  const auto part = [&](const std::vector<double>& v) {
+    double amax = 0.0, diff = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+      amax = std::max(amax, std::abs(v[k]));
+      diff = std::max(diff, std::abs(v[k] - at(c.col[k], c.row[k], v)));
+    }
+    return diff <= 1e-12 * std::max(amax, 1e-300);
+  };
+  return part(c.re) && (!m.is_complex || part(c.im));
 }
 
 json MatrixInfo(const FeMatrix& m) {
-  const double fro = std::sqrt(m.real.squaredNorm() + (m.is_complex ? m.imag.squaredNorm() : 0.0));
+  double squares = 0.0;
+  for (const double v : m.coo.re) squares += v * v;
+  for (const double v : m.coo.im) squares += v * v;
+  const double fro = std::sqrt(squares);
   json j = {{"name", m.name},
             {"rows", m.rows},
             {"cols", m.cols},
-            {"nnz", Nonzeros(m)},
+            {"nnz", m.coo.re.size()},
             {"symmetric", IsSymmetric(m)},
             {"declared_symmetric", m.symmetric},
             {"frobenius", fro},
@@ -69,25 +86,13 @@ json MatrixInfo(const FeMatrix& m) {
   return j;
 }
 
-// Coordinate (COO) triplets: the file holds what the matrix holds (nnz), whatever its declared
-// dimensions (a CSC column index would cost 8 bytes per column: 800 MB for 10^8 columns).
-void WriteSparse(Hdf5Writer& h5, const std::string& group, const Eigen::SparseMatrix<double>& a,
-                 const std::string& suffix) {
-  std::vector<int64_t> row, col;
-  std::vector<double> values;
-  row.reserve(static_cast<size_t>(a.nonZeros()));
-  col.reserve(static_cast<size_t>(a.nonZeros()));
-  values.reserve(static_cast<size_t>(a.nonZeros()));
-  for (int j = 0; j < a.outerSize(); ++j) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it) {
-      row.push_back(it.row());
-      col.push_back(it.col());
-      values.push_back(it.value());
-    }
-  }
-  h5.Int64Vector(group + "/row" + suffix, row);
-  h5.Int64Vector(group + "/col" + suffix, col);
-  h5.Vector(group + "/values" + suffix, values);
+// Coordinate (COO) triplets as read: the file holds what the matrix holds (nnz), whatever its
+// declared dimensions (a CSC column index would cost 8 bytes per column: 800 MB for 10^8).
+void WriteSparse(Hdf5Writer& h5, const std::string& group, const FeMatrix& m) {
+  h5.Int64Vector(group + "/row", m.coo.row);
+  h5.Int64Vector(group + "/col", m.coo.col);
+  h5.Vector(group + "/values", m.coo.re);
+  if (m.is_complex) h5.Vector(group + "/values_imag", m.coo.im);
 }
 
 }  // namespace
@@ -102,8 +107,10 @@ struct FeCommands::State {
   int RunInfo() {
     json all = json::array();
     for (const std::string& f : files) {
-      const FeModel m = ReadFe(f);
-      json j = {{"file", f}, {"format", m.format}, {"nodes", m.nodes.size()},
+      const FeModel m = ReadFe(f, Coordinates());
+      json j = {{"file", f},
+                {"format", m.format},
+                {"nodes", m.nodes.size()},
                 {"coordinate_systems", m.systems.size()},
                 {"external_dofs", m.external_dofs.size()}};
       json mats = json::array();
@@ -119,29 +126,33 @@ struct FeCommands::State {
       return 0;
     }
     for (const json& j : all) {
-      std::cout << j["file"].get<std::string>() << " (" << j["format"].get<std::string>() << "): "
-                << j["nodes"] << " nodes, " << j["coordinate_systems"] << " coordinate systems"
-                << (j["external_dofs"].get<size_t>() > 0
-                        ? ", superelement DOF order (EXTRN) of " + j["external_dofs"].dump() + " DOFs"
-                        : "")
+      std::cout << j["file"].get<std::string>() << " (" << j["format"].get<std::string>()
+                << "): " << j["nodes"] << " nodes, " << j["coordinate_systems"]
+                << " coordinate systems"
+                << (j["external_dofs"].get<size_t>() > 0 ? ", superelement DOF order (EXTRN) of " +
+                                                               j["external_dofs"].dump() + " DOFs"
+                                                         : "")
                 << "\n";
       if (!j["node_sets"].empty()) {
         std::cout << "  node sets:";
-        for (const auto& [name, count] : j["node_sets"].items()) std::cout << " " << name << " (" << count << ")";
+        for (const auto& [name, count] : j["node_sets"].items())
+          std::cout << " " << name << " (" << count << ")";
         std::cout << "\n";
       }
       for (const json& m : j["matrices"]) {
         std::cout << "  " << m["name"].get<std::string>() << ": " << m["rows"] << " x " << m["cols"]
                   << ", nnz " << m["nnz"] << ", " << m["type"].get<std::string>()
                   << (m["symmetric"].get<bool>() ? ", symmetric" : "") << ", |A|_F "
-                  << m["frobenius"] << (m["dof_map"].is_null() ? ", no DOF map" : ", DOF map") << "\n";
+                  << m["frobenius"] << (m["dof_map"].is_null() ? ", no DOF map" : ", DOF map")
+                  << "\n";
       }
     }
     return 0;
   }
 
   int RunConvert() {
-    const FeModel m = ReadFe(file);
+    // Only the matrix asked for is assembled; the reader names the matrices when it is absent.
+    const FeModel m = ReadFe(file, Coordinates(matrix));
     std::vector<const FeMatrix*> chosen;
     for (const FeMatrix& mat : m.matrices) {
       if (matrix.empty() || m.Find(matrix) == &mat) chosen.push_back(&mat);
@@ -151,14 +162,15 @@ struct FeCommands::State {
     // coordinate systems and the superelement DOF order: HDF5 takes it, Matrix Market cannot.
     const bool model_only = chosen.empty() && matrix.empty() && out.extension() == ".h5";
     if (m.matrices.empty() && !model_only) {
-      throw CLI::ValidationError("--to", file + " holds no matrices (only nodes, coordinate "
-                                        "systems or a DOF order); convert it to .h5");
+      throw CLI::ValidationError("--to", file +
+                                             " holds no matrices (only nodes, coordinate "
+                                             "systems or a DOF order); convert it to .h5");
     }
     if (chosen.empty() && !model_only) {
       std::string names;
       for (const FeMatrix& mat : m.matrices) names += (names.empty() ? "" : ", ") + mat.name;
-      throw CLI::ValidationError("--matrix", "no matrix '" + matrix + "' in " + file +
-                                                 " (it holds: " + names + ")");
+      throw CLI::ValidationError(
+          "--matrix", "no matrix '" + matrix + "' in " + file + " (it holds: " + names + ")");
     }
     if (out.extension() == ".mtx") {
       if (chosen.size() != 1) {
@@ -183,14 +195,14 @@ struct FeCommands::State {
       h5.Attribute("", "schema", "fricrom-fe-model-1");
       h5.Attribute("", "source", m.source);
       h5.Attribute("", "format", m.format);
-      h5.Attribute("", "layout", "matrices/<name>: coordinate triplets, 0-based (row, col, "
-                                 "values[, row_imag, col_imag, values_imag]), attributes rows, "
-                                 "cols; "
-                                 "dofs: node, component (0 = scalar point)");
+      h5.Attribute("", "layout",
+                   "matrices/<name>: coordinate triplets, 0-based (row, col, "
+                   "values[, values_imag]) sorted by column then row, attributes "
+                   "rows, cols; "
+                   "dofs: node, component (0 = scalar point)");
       for (const FeMatrix* mat : chosen) {
         const std::string g = "matrices/" + mat->name;
-        WriteSparse(h5, g, mat->real, "");
-        if (mat->is_complex) WriteSparse(h5, g, mat->imag, "_imag");
+        WriteSparse(h5, g, *mat);
         std::vector<int64_t> nodes, comps;
         for (const DofId& d : mat->row_dofs) {
           nodes.push_back(d.node);
@@ -260,7 +272,8 @@ void FeCommands::Register(CLI::App& app) {
   s.convert = app.add_subcommand("convert", "Convert an FE export to Matrix Market or HDF5");
   s.convert->add_option("file", s.file, "FE file")->required();
   s.convert->add_option("--matrix", s.matrix, "Matrix name (default: all; one for .mtx)");
-  s.convert->add_option("--to", s.to, "Output: OUT.mtx (+ OUT.dof.csv DOF map) or OUT.h5")->required();
+  s.convert->add_option("--to", s.to, "Output: OUT.mtx (+ OUT.dof.csv DOF map) or OUT.h5")
+      ->required();
   s.convert->add_flag("--json", s.as_json, "Print JSON on stdout");
 }
 

@@ -14,11 +14,10 @@
 #include <string_view>
 #include <system_error>
 
-#include "fricrom/fe_model.h"
 #include "fe_text.h"
+#include "fricrom/fe_model.h"
 
 namespace fricrom {
-
 
 namespace {
 
@@ -116,7 +115,7 @@ DofId ReadDof(std::string_view node, std::string_view dof, const std::string& pa
 
 }  // namespace
 
-FeModel ReadAbaqusMatrix(const std::string& path) {
+FeModel ReadAbaqusMatrix(const std::string& path, const FeReadOptions& options) {
   const std::string text = fe_text::ReadCompleteTextFile(path, "Abaqus matrix file");
   FeModel model;
   model.source = path;
@@ -247,7 +246,8 @@ FeModel ReadAbaqusMatrix(const std::string& path) {
              fe_text::DescribeDof(m.col_dofs[static_cast<size_t>(c)]) + ")";
     };
   }
-  fe_text::AssembleEntries(path, entries, m.symmetric, m, describe);
+  fe_text::AssembleEntries(path, entries, m.symmetric, m, describe, options);
+  fe_text::KeepOnly(path, options, model);
   return model;
 }
 

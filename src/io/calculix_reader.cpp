@@ -6,11 +6,10 @@
 #include <future>
 #include <string_view>
 
-#include "fricrom/fe_model.h"
 #include "fe_text.h"
+#include "fricrom/fe_model.h"
 
 namespace fricrom {
-
 
 namespace {
 
@@ -46,7 +45,7 @@ std::vector<DofId> ReadDofFile(const std::string& path) {
 }
 
 FeMatrix ReadTriplets(const std::string& path, const std::string& name,
-                      const std::vector<DofId>& dofs) {
+                      const std::vector<DofId>& dofs, const FeReadOptions& options) {
   const std::string text = fe_text::ReadCompleteTextFile(path, "CalculiX matrix file");
   FeMatrix m;
   m.name = name;
@@ -100,13 +99,13 @@ FeMatrix ReadTriplets(const std::string& path, const std::string& name,
                " in the .dof file; CalculiX writes every diagonal term: the file is truncated");
     }
   }
-  fe_text::AssembleEntries(path, entries, true, m, describe);
+  fe_text::AssembleEntries(path, entries, true, m, describe, options);
   return m;
 }
 
 }  // namespace
 
-FeModel ReadCalculix(const std::string& prefix) {
+FeModel ReadCalculix(const std::string& prefix, const FeReadOptions& options) {
   const std::string dof_path = prefix + ".dof", sti = prefix + ".sti", mas = prefix + ".mas";
   const bool has_sti = std::filesystem::exists(sti), has_mas = std::filesystem::exists(mas);
   if (!has_sti && !has_mas) {
@@ -128,10 +127,11 @@ FeModel ReadCalculix(const std::string& prefix) {
   // reported in a fixed order (stiffness first); the future's destructor joins the thread.
   std::future<FeMatrix> mass_future;
   if (has_mas) {
-    mass_future = std::async(std::launch::async, [&] { return ReadTriplets(mas, "MASS", dofs); });
+    mass_future =
+        std::async(std::launch::async, [&] { return ReadTriplets(mas, "MASS", dofs, options); });
   }
   if (has_sti) {
-    model.matrices.push_back(ReadTriplets(sti, "STIFFNESS", dofs));
+    model.matrices.push_back(ReadTriplets(sti, "STIFFNESS", dofs, options));
     model.source += ", " + sti;
   }
   if (has_mas) {
@@ -144,6 +144,7 @@ FeModel ReadCalculix(const std::string& prefix) {
     ReadInpNodesAndSets(deck, model);
     model.source += ", " + deck;
   }
+  fe_text::KeepOnly(prefix, options, model);
   return model;
 }
 

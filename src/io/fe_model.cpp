@@ -3,8 +3,6 @@
 // private header fe_text.h.
 #include "fricrom/fe_model.h"
 
-#include "fe_text.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -21,10 +19,11 @@
 #include <string_view>
 #include <system_error>
 
+#include "fe_text.h"
+
 namespace fricrom {
 
 namespace fe_text {
-
 
 std::string Printable(std::string_view s) {
   constexpr size_t kMax = 40;
@@ -129,7 +128,6 @@ bool ParseInt(std::string_view s, int64_t& out) {
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
   return ec == std::errc() && ptr == s.data() + s.size();
 }
-
 
 // Whole (trimmed) field as a double. Accepts a leading '+', 'D'/'d' exponents, and with
 // `nastran` the implicit exponent of Nastran fields ("1.5-3" = 1.5e-3, "2.+5" = 2e5). NaN, Inf
@@ -241,7 +239,6 @@ std::string DescribeDof(const DofId& d) {
   return "node " + std::to_string(d.node) + " component " + std::to_string(d.component);
 }
 
-
 // True when some off-diagonal entry (i, j) also appears as (j, i).
 bool HasTransposePair(const std::vector<TextEntry>& entries) {
   // Common case first: every off-diagonal entry in the same strict triangle (O(n), no sort).
@@ -261,140 +258,6 @@ bool HasTransposePair(const std::vector<TextEntry>& entries) {
     if (std::binary_search(keys.begin(), keys.end(), std::make_pair(c, r))) return true;
   }
   return false;
-}
-
-// Fills m.real (and m.imag when m.is_complex) from `entries`. m.rows, m.cols must be set.
-// Errors: an index out of range, an entry given twice, and, when `symmetric`, an off-diagonal
-// entry given in both triangles. Symmetric storage is expanded to both triangles.
-void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
-                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe) {
-  const auto where = [&](int64_t r, int64_t c) {
-    if (describe) return describe(r, c);
-    return "(row " + std::to_string(r + 1) + ", column " + std::to_string(c + 1) + ")";
-  };
-  if (m.rows < 0 || m.cols < 0 || m.rows > kMaxDimension || m.cols > kMaxDimension) {
-    Fail(file, 0,
-         "matrix size " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
-             " out of the supported range (0.." + std::to_string(kMaxDimension) + ")");
-  }
-  if (symmetric && m.rows != m.cols) {
-    Fail(file, 0,
-         "a symmetric matrix must be square, got " + std::to_string(m.rows) + " x " +
-             std::to_string(m.cols));
-  }
-  if (entries.size() > static_cast<size_t>(std::numeric_limits<int>::max() / 2)) {
-    Fail(file, 0, "too many matrix entries (" + std::to_string(entries.size()) + ")");
-  }
-  for (const TextEntry& e : entries) {
-    if (e.row < 0 || e.row >= m.rows || e.col < 0 || e.col >= m.cols) {
-      Fail(file, e.line,
-           "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
-               std::to_string(e.col + 1) + " in a " + std::to_string(m.rows) + " x " +
-               std::to_string(m.cols) + " matrix (expected 1.." + std::to_string(m.rows) + ", 1.." +
-               std::to_string(m.cols) + ")");
-    }
-  }
-  // Duplicate / both-triangle detection on keys sorted by (row, col) or, when symmetric, by
-  // (min, max); ties keep file order so the later line is the one reported. The sort is skipped
-  // when the file is already in key order, and is otherwise a stable two-pass counting sort (O(n +
-  // dimension)) unless the dimension is large compared with the entry count.
-  const auto primary = [&](uint32_t k) {
-    const TextEntry& e = entries[k];
-    return symmetric ? std::min(e.row, e.col) : e.row;
-  };
-  const auto secondary = [&](uint32_t k) {
-    const TextEntry& e = entries[k];
-    return symmetric ? std::max(e.row, e.col) : e.col;
-  };
-  const auto key = [&](uint32_t k) { return std::make_pair(primary(k), secondary(k)); };
-  const size_t n = entries.size();
-  try {
-    std::vector<uint32_t> order(n);
-    std::iota(order.begin(), order.end(), uint32_t{0});
-    bool in_order = true;
-    for (size_t k = 1; k < n && in_order; ++k) {
-      in_order = !(key(static_cast<uint32_t>(k)) < key(static_cast<uint32_t>(k - 1)));
-    }
-    if (!in_order) {
-      const size_t secondary_range = static_cast<size_t>(symmetric ? m.rows : m.cols);
-      const size_t primary_range = static_cast<size_t>(m.rows);
-      if (std::max(primary_range, secondary_range) <= 2 * n + 4096) {
-        std::vector<uint32_t> count, by_secondary(n);
-        const auto counting_sort = [&](const std::vector<uint32_t>& in, std::vector<uint32_t>& out,
-                                       size_t range, const auto& bucket) {
-          count.assign(range + 1, 0);
-          for (const uint32_t k : in) ++count[static_cast<size_t>(bucket(k)) + 1];
-          for (size_t i = 0; i < range; ++i) count[i + 1] += count[i];
-          for (const uint32_t k : in) out[count[static_cast<size_t>(bucket(k))]++] = k;
-        };
-        counting_sort(order, by_secondary, secondary_range, secondary);
-        counting_sort(by_secondary, order, primary_range, primary);
-      } else {
-        std::stable_sort(order.begin(), order.end(),
-                         [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-      }
-    }
-    for (size_t k = 1; k < n; ++k) {
-      if (key(order[k]) != key(order[k - 1])) continue;
-      const TextEntry& first = entries[order[k - 1]];
-      const TextEntry& second = entries[order[k]];
-      const TextEntry& later = first.line > second.line ? first : second;
-      const TextEntry& earlier = first.line > second.line ? second : first;
-      if (symmetric && first.row != second.row) {
-        Fail(file, later.line,
-             "symmetric matrix has entry " + where(later.row, later.col) +
-                 " in both triangles (its transpose is on line " + std::to_string(earlier.line) +
-                 "); give each off-diagonal term once, in either triangle");
-      }
-      Fail(file, later.line,
-           "entry " + where(later.row, later.col) + " given twice (also on line " +
-               std::to_string(earlier.line) + ")");
-    }
-    // Compressed column storage built directly (no duplicates are left to sum): O(cols + nnz)
-    // time and memory, whatever the number of rows. Scattering the entries in key order leaves
-    // the rows of every column ascending: for (row, col) keys directly; for symmetric (min, max)
-    // keys, column j first receives the rows i < j (from keys (i, j), ascending i), then the rows
-    // i >= j (from keys (j, i), ascending i).
-    size_t stored = 0;
-    for (const TextEntry& e : entries) stored += symmetric && e.row != e.col ? 2 : 1;
-    Eigen::SparseMatrix<double>& a = m.real;
-    a.resize(static_cast<Eigen::Index>(m.rows), static_cast<Eigen::Index>(m.cols));  // in place
-    a.resizeNonZeros(static_cast<Eigen::Index>(stored));
-    int* outer = a.outerIndexPtr();
-    int* inner = a.innerIndexPtr();
-    double* value = a.valuePtr();
-    for (const TextEntry& e : entries) {
-      ++outer[e.col + 1];
-      if (symmetric && e.row != e.col) ++outer[e.row + 1];
-    }
-    for (int64_t j = 0; j < m.cols; ++j) outer[j + 1] += outer[j];
-    // outer[c] serves as column c's insertion point, restored by one shift afterwards: no second
-    // per-column array (a matrix declared 10^8 x 10^8 with two entries must not cost 400 MB more).
-    std::vector<double> imag(m.is_complex ? stored : 0);
-    const auto put = [&](int64_t r, int64_t c, const TextEntry& e) {
-      const int p = outer[c]++;
-      inner[p] = static_cast<int>(r);
-      value[p] = e.re;
-      if (m.is_complex) imag[static_cast<size_t>(p)] = e.im;
-    };
-    for (const uint32_t k : order) {
-      const TextEntry& e = entries[k];
-      put(e.row, e.col, e);
-      if (symmetric && e.row != e.col) put(e.col, e.row, e);
-    }
-    for (int64_t j = m.cols; j > 0; --j) outer[j] = outer[j - 1];
-    outer[0] = 0;
-    if (m.is_complex) {
-      m.imag = a;
-      std::copy(imag.begin(), imag.end(), m.imag.valuePtr());
-    } else {
-      m.imag = Eigen::SparseMatrix<double>();
-    }
-  } catch (const std::bad_alloc&) {
-    Fail(file, 0,
-         "not enough memory for a " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
-             " matrix with " + std::to_string(entries.size()) + " entries");
-  }
 }
 
 // Highest accepted component number in DOF maps (Abaqus numbers degrees of freedom up to 30;
@@ -532,34 +395,34 @@ bool HasNastranMatrixCards(const std::string& path) {
 
 }  // namespace
 
-FeModel ReadFe(const std::string& path) {
+FeModel ReadFe(const std::string& path, const FeReadOptions& options) {
   const std::string ext = LowerExtension(path);
-  if (ext == ".op4") return ReadOp4(path);
-  if (ext == ".pch") return ReadNastranPunch(path);
+  if (ext == ".op4") return ReadOp4(path, options);
+  if (ext == ".pch") return ReadNastranPunch(path, options);
   if (ext == ".bdf" || ext == ".dat" || ext == ".nas" || ext == ".blk") {
     if (!HasNastranMatrixCards(path)) {
       fe_text::Fail(path, 0,
                     "no DMIG or EXTRN card: expected Nastran bulk data with DMIG matrices (only "
                     "DMIG, EXTRN, GRID and CORD2R cards are read from Nastran decks)");
     }
-    return ReadNastranPunch(path);
+    return ReadNastranPunch(path, options);
   }
   if (ext == ".sti" || ext == ".mas" || ext == ".dof" || ext == ".inp") {
     std::filesystem::path prefix(path);
     prefix.replace_extension();
-    return ReadCalculix(prefix.string());
+    return ReadCalculix(prefix.string(), options);
   }
   if (ext == ".mtx" || ext == ".mm") {
     if (!std::filesystem::exists(path))
       fe_text::Fail(path, 0, "cannot open matrix file: no such file");
     if (StartsWithMatrixMarket(path)) {
       const std::string sidecar = fe_text::DefaultDofSidecar(path);
-      return ReadMatrixMarket(path, std::filesystem::exists(sidecar) ? sidecar : "");
+      return ReadMatrixMarket(path, std::filesystem::exists(sidecar) ? sidecar : "", options);
     }
-    return ReadAbaqusMatrix(path);
+    return ReadAbaqusMatrix(path, options);
   }
   if (std::filesystem::exists(path) && StartsWithMatrixMarket(path)) {
-    return ReadMatrixMarket(path);
+    return ReadMatrixMarket(path, "", options);
   }
   fe_text::Fail(path, 0,
                 "unknown FE matrix format (expected .op4, .pch/.bdf/.dat with DMIG, .mtx (Matrix "

@@ -13,9 +13,10 @@
 
 namespace fricrom::fe_text {
 
-// Largest row/column count accepted from a file (Eigen's 32-bit storage index and memory: a
-// sparse matrix stores one int per column even when empty).
-constexpr int64_t kMaxDimension = 100'000'000;
+// Largest row/column count or index accepted from a file: exact in a double (HDF5 and JSON
+// attributes) and safe from overflow. Compressed-column storage further needs Eigen's int index
+// and the memory of 4 bytes per column (CheckStorage); the coordinate form needs neither.
+constexpr int64_t kMaxDimension = int64_t{1} << 53;
 // Largest DOF component accepted in a DOF map (6 for grids, more for user-defined DOFs).
 constexpr int kMaxComponent = 30;
 
@@ -57,8 +58,21 @@ std::string DescribeDof(const DofId& d);
 bool HasTransposePair(const std::vector<TextEntry>& entries);
 void CheckUniqueDofs(const std::string& file, const std::vector<DofId>& dofs,
                      const std::vector<size_t>& lines);
+// Fills m (m.rows, m.cols, m.is_complex, m.name set) from `entries`, in the storage `options`
+// asks for; a matrix that options.only_matrix does not name is checked but not assembled.
 void AssembleEntries(const std::string& file, const std::vector<TextEntry>& entries, bool symmetric,
-                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe);
+                     FeMatrix& m, const std::function<std::string(int64_t, int64_t)>& describe,
+                     const FeReadOptions& options);
+// Largest storage of one matrix (options.memory_limit_bytes, else the physical memory).
+uint64_t MemoryLimit(const FeReadOptions& options);
+// Fails ("file: what") when matrix m with `stored` entries (after symmetric expansion) cannot be
+// held in the storage `options` asks for: Eigen's index range, or more memory than the limit.
+void CheckStorage(const std::string& file, const std::string& where, const FeMatrix& m,
+                  uint64_t stored, const FeReadOptions& options);
+// True when options.only_matrix keeps a matrix of this name.
+bool Wanted(const FeReadOptions& options, const std::string& name);
+// Drops the matrices options.only_matrix does not name; fails when none is left.
+void KeepOnly(const std::string& file, const FeReadOptions& options, FeModel& model);
 // DOF-map sidecar: header `node,component`, then one `node,component` line per row.
 std::vector<DofId> ReadDofCsv(const std::string& path);
 // Default DOF-map sidecar of a matrix file: same name, extension replaced by ".dof.csv".

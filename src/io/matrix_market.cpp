@@ -15,11 +15,10 @@
 #include <tuple>
 #include <vector>
 
-#include "fricrom/fe_model.h"
 #include "fe_text.h"
+#include "fricrom/fe_model.h"
 
 namespace fricrom {
-
 
 namespace {
 
@@ -43,7 +42,8 @@ constexpr std::string_view kNameComment = "% name:";
 
 }  // namespace
 
-FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv) {
+FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
+                         const FeReadOptions& options) {
   const std::string text = fe_text::ReadCompleteTextFile(path, "Matrix Market file");
   FeModel model;
   model.source = path;
@@ -126,7 +126,13 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv) {
            "dimension mismatch: a symmetric matrix must be square, got " + std::to_string(m.rows) +
                " x " + std::to_string(m.cols));
     }
-    const int64_t capacity = m.symmetric ? m.rows * (m.rows + 1) / 2 : m.rows * m.cols;
+    // rows * cols saturating (dimensions reach 2^53; only the entries cost memory).
+    const auto times = [](int64_t x, int64_t y) {
+      return x != 0 && y > std::numeric_limits<int64_t>::max() / x
+                 ? std::numeric_limits<int64_t>::max()
+                 : x * y;
+    };
+    const int64_t capacity = m.symmetric ? times(m.rows, m.rows + 1) / 2 : times(m.rows, m.cols);
     if (nnz < 0 || nnz > capacity) {
       Fail(path, number,
            "expected 0.." + std::to_string(capacity) + " entries for a " + std::to_string(m.rows) +
@@ -173,7 +179,7 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv) {
          "truncated file: the size line declares " + std::to_string(nnz) + " entries, found " +
              std::to_string(entries.size()));
   }
-  fe_text::AssembleEntries(path, entries, m.symmetric, m, {});
+  fe_text::AssembleEntries(path, entries, m.symmetric, m, {}, options);
 
   if (!dof_csv.empty()) {
     std::vector<DofId> dofs = fe_text::ReadDofCsv(dof_csv);
@@ -197,6 +203,7 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv) {
                ")");
     }
   }
+  fe_text::KeepOnly(path, options, model);
   return model;
 }
 
@@ -242,75 +249,30 @@ class TempFile {
   bool committed_ = false;
 };
 
-bool ExactlySymmetric(const Eigen::SparseMatrix<double>& a) {
-  if (a.rows() != a.cols()) return false;
-  const Eigen::SparseMatrix<double> t = a.transpose();
-  if (t.nonZeros() != a.nonZeros()) return false;
-  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
-    Eigen::SparseMatrix<double>::InnerIterator x(a, j), y(t, j);
-    for (; x && y; ++x, ++y) {
-      if (x.index() != y.index() || x.value() != y.value()) return false;
+using Entry = std::tuple<int64_t, int64_t, double, double>;  // row, col, re, im
+
+// Every stored entry of either storage, sorted by column then row (the union of the real and
+// imaginary patterns).
+std::vector<Entry> SortedEntries(const FeMatrix& m) {
+  std::vector<Entry> out;
+  if (m.coordinate) {
+    out.reserve(m.coo.re.size());
+    for (size_t k = 0; k < m.coo.re.size(); ++k) {
+      out.emplace_back(m.coo.row[k], m.coo.col[k], m.coo.re[k], m.is_complex ? m.coo.im[k] : 0.0);
     }
-    if (x || y) return false;
+    return out;
   }
-  return true;
-}
-
-void CheckDofs(const std::vector<DofId>& dofs, const char* what) {
-  for (const DofId& d : dofs) {
-    if (d.component < 0 || d.component > fe_text::kMaxComponent) {
-      throw std::invalid_argument(std::string("WriteMatrixMarket: ") + what + " DOF " +
-                                  fe_text::DescribeDof(d) + " has a component outside 0.." +
-                                  std::to_string(fe_text::kMaxComponent));
-    }
-  }
-}
-
-}  // namespace
-
-void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
-                       const std::string& dof_csv) {
-  const FeMatrix& m = matrix;
-  if (m.real.rows() != m.rows || m.real.cols() != m.cols) {
-    throw std::invalid_argument("WriteMatrixMarket: matrix " + m.name + " is declared " +
-                                std::to_string(m.rows) + " x " + std::to_string(m.cols) +
-                                " but stores " + std::to_string(m.real.rows()) + " x " +
-                                std::to_string(m.real.cols()));
-  }
-  if (m.is_complex && (m.imag.rows() != m.rows || m.imag.cols() != m.cols)) {
-    throw std::invalid_argument("WriteMatrixMarket: imaginary part of " + m.name +
-                                " has the wrong shape");
-  }
-  const bool has_rows = !m.row_dofs.empty(), has_cols = !m.col_dofs.empty();
-  if ((has_rows && static_cast<int64_t>(m.row_dofs.size()) != m.rows) ||
-      (has_cols && static_cast<int64_t>(m.col_dofs.size()) != m.cols)) {
-    throw std::invalid_argument("WriteMatrixMarket: DOF map of " + m.name +
-                                " does not match its size");
-  }
-  if (!has_rows && has_cols) {
-    throw std::invalid_argument("WriteMatrixMarket: " + m.name +
-                                " has column DOFs but no row DOFs; the sidecar cannot hold that");
-  }
-  CheckDofs(m.row_dofs, "row");
-  CheckDofs(m.col_dofs, "column");
-
-  // Union of the real and imaginary patterns, column by column (Eigen storage is column-major).
   Eigen::SparseMatrix<double> re = m.real, im;
   re.makeCompressed();
   if (m.is_complex) {
     im = m.imag;
     im.makeCompressed();
   }
-  const bool symmetric = m.symmetric && m.rows == m.cols && ExactlySymmetric(re) &&
-                         (!m.is_complex || ExactlySymmetric(im));
-  // Entries to write: one triangle (row >= col) when symmetric.
-  std::vector<std::tuple<int64_t, int64_t, double, double>> out;
   out.reserve(static_cast<size_t>(re.nonZeros()));
   for (Eigen::Index j = 0; j < re.outerSize(); ++j) {
     if (!m.is_complex) {
       for (Eigen::SparseMatrix<double>::InnerIterator it(re, j); it; ++it) {
-        if (symmetric && it.row() < it.col()) continue;
-        out.emplace_back(it.row(), it.col(), it.value(), 0.0);
+        out.emplace_back(it.row(), j, it.value(), 0.0);
       }
       continue;
     }
@@ -331,10 +293,83 @@ void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
         vi = b.value();
         ++b;
       }
-      if (symmetric && row < j) continue;
       out.emplace_back(row, j, vr, vi);
     }
   }
+  return out;
+}
+
+// Every entry has its transpose with the same bits (entries sorted by column, then row).
+bool ExactlySymmetric(const std::vector<Entry>& e) {
+  const auto by_col_row = [](const Entry& x, const std::pair<int64_t, int64_t>& key) {
+    return std::make_pair(std::get<1>(x), std::get<0>(x)) < key;
+  };
+  for (const auto& [r, c, vr, vi] : e) {
+    if (r == c) continue;
+    const auto it = std::lower_bound(e.begin(), e.end(), std::make_pair(r, c), by_col_row);
+    if (it == e.end() || std::get<0>(*it) != c || std::get<1>(*it) != r || std::get<2>(*it) != vr ||
+        std::get<3>(*it) != vi) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void CheckDofs(const std::vector<DofId>& dofs, const char* what) {
+  for (const DofId& d : dofs) {
+    if (d.component < 0 || d.component > fe_text::kMaxComponent) {
+      throw std::invalid_argument(std::string("WriteMatrixMarket: ") + what + " DOF " +
+                                  fe_text::DescribeDof(d) + " has a component outside 0.." +
+                                  std::to_string(fe_text::kMaxComponent));
+    }
+  }
+}
+
+}  // namespace
+
+void WriteMatrixMarket(const FeMatrix& matrix, const std::string& path,
+                       const std::string& dof_csv) {
+  const FeMatrix& m = matrix;
+  if (!m.coordinate && (m.real.rows() != m.rows || m.real.cols() != m.cols)) {
+    throw std::invalid_argument("WriteMatrixMarket: matrix " + m.name + " is declared " +
+                                std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+                                " but stores " + std::to_string(m.real.rows()) + " x " +
+                                std::to_string(m.real.cols()));
+  }
+  if (!m.coordinate && m.is_complex && (m.imag.rows() != m.rows || m.imag.cols() != m.cols)) {
+    throw std::invalid_argument("WriteMatrixMarket: imaginary part of " + m.name +
+                                " has the wrong shape");
+  }
+  const size_t n = m.coo.re.size();
+  if (m.coordinate && (m.coo.row.size() != n || m.coo.col.size() != n ||
+                       m.coo.im.size() != (m.is_complex ? n : 0))) {
+    throw std::invalid_argument("WriteMatrixMarket: coordinate arrays of " + m.name +
+                                " differ in length");
+  }
+  const bool has_rows = !m.row_dofs.empty(), has_cols = !m.col_dofs.empty();
+  if ((has_rows && static_cast<int64_t>(m.row_dofs.size()) != m.rows) ||
+      (has_cols && static_cast<int64_t>(m.col_dofs.size()) != m.cols)) {
+    throw std::invalid_argument("WriteMatrixMarket: DOF map of " + m.name +
+                                " does not match its size");
+  }
+  if (!has_rows && has_cols) {
+    throw std::invalid_argument("WriteMatrixMarket: " + m.name +
+                                " has column DOFs but no row DOFs; the sidecar cannot hold that");
+  }
+  CheckDofs(m.row_dofs, "row");
+  CheckDofs(m.col_dofs, "column");
+
+  std::vector<Entry> all = SortedEntries(m);
+  const bool symmetric = m.symmetric && m.rows == m.cols && ExactlySymmetric(all);
+  // Entries to write: one triangle (row >= col) when symmetric.
+  std::vector<Entry> lower;
+  if (symmetric) {
+    for (const Entry& e : all) {
+      if (std::get<0>(e) >= std::get<1>(e)) lower.push_back(e);
+    }
+    all.swap(lower);
+  }
+  const std::vector<Entry>& out = all;
 
   TempFile mtx(path);
   std::FILE* f = mtx.get();

@@ -11,11 +11,10 @@
 #include <string_view>
 #include <utility>
 
-#include "fricrom/fe_model.h"
 #include "fe_text.h"
+#include "fricrom/fe_model.h"
 
 namespace fricrom {
-
 
 namespace {
 
@@ -70,14 +69,16 @@ struct GridCard {
 
 class PunchReader {
  public:
-  explicit PunchReader(std::string path) : path_(std::move(path)) {}
+  PunchReader(std::string path, const FeReadOptions& options)
+      : path_(std::move(path)), options_(options) {}
 
   FeModel Read() {
     const std::string text = fe_text::ReadCompleteTextFile(path_, "Nastran punch/bulk data file");
     Parse(text);
     if (dmigs_.empty() && grids_.empty() && extrn_.empty() && systems_.empty()) {
-      FailAt(0, "no DMIG, EXTRN, GRID or CORD2R card found: not a Nastran punch/bulk data file "
-                "fricrom can read");
+      FailAt(0,
+             "no DMIG, EXTRN, GRID or CORD2R card found: not a Nastran punch/bulk data file "
+             "fricrom can read");
     }
     return Build();
   }
@@ -671,11 +672,12 @@ class PunchReader {
                                          : "column " + fe_text::DescribeDof(m.col_dofs[c]);
       return "(row " + fe_text::DescribeDof(m.row_dofs[r]) + ", " + col + ") of DMIG " + d.name;
     };
-    fe_text::AssembleEntries(path_, entries, m.symmetric, m, describe);
+    fe_text::AssembleEntries(path_, entries, m.symmetric, m, describe, options_);
     return m;
   }
 
   std::string path_;
+  const FeReadOptions& options_;
   Card card_;
   bool have_card_ = false;
   std::vector<Dmig> dmigs_;
@@ -689,6 +691,10 @@ class PunchReader {
 
 }  // namespace
 
-FeModel ReadNastranPunch(const std::string& path) { return PunchReader(path).Read(); }
+FeModel ReadNastranPunch(const std::string& path, const FeReadOptions& options) {
+  FeModel model = PunchReader(path, options).Read();
+  fe_text::KeepOnly(path, options, model);
+  return model;
+}
 
 }  // namespace fricrom

@@ -1,14 +1,14 @@
 // Helpers shared by the FE-reader tests.
 #pragma once
 
-#include <unistd.h>
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "fricrom/fe_model.h"
 
@@ -18,8 +18,7 @@ namespace fricrom::testing {
 class ScratchDir {
  public:
   ScratchDir() {
-    std::string tmpl =
-        (std::filesystem::temp_directory_path() / "fricrom-io-test-XXXXXX").string();
+    std::string tmpl = (std::filesystem::temp_directory_path() / "fricrom-io-test-XXXXXX").string();
     if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
     path_ = tmpl;
   }
@@ -57,6 +56,20 @@ void ExpectError(F read, const std::string& file, int line, const std::string& w
       EXPECT_NE(msg.find(":" + std::to_string(line) + ":"), std::string::npos) << msg;
     }
     EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
+
+// Expects `read` to throw a FeReadError whose message contains every fragment.
+template <typename F>
+void ExpectError(F read, const std::vector<std::string>& fragments) {
+  try {
+    read();
+    ADD_FAILURE() << "no FeReadError; expected one containing '" << fragments.front() << "'";
+  } catch (const FeReadError& e) {
+    const std::string msg = e.what();
+    for (const std::string& f : fragments) {
+      EXPECT_NE(msg.find(f), std::string::npos) << "missing '" << f << "' in: " << msg;
+    }
   }
 }
 

@@ -1,0 +1,170 @@
+// OUTPUT4 header checks and matrix assembly, shared by the binary and ASCII readers.
+#include "op4_common.h"
+
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+#include "fe_text.h"
+
+namespace fricrom::op4 {
+
+std::string Printable(std::string_view s, size_t max_len) {
+  std::string out;
+  for (size_t i = 0; i < s.size() && i < max_len; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      static const char* kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (s.size() > max_len) out += "...";
+  return out;
+}
+
+std::string_view TrimSpaces(std::string_view s) {
+  size_t b = 0;
+  while (b < s.size() && (s[b] == ' ' || s[b] == '\t')) ++b;
+  size_t e = s.size();
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t')) --e;
+  return s.substr(b, e - b);
+}
+
+std::string TrimName(std::string_view s) {
+  size_t e = s.size();
+  while (e > 0 && (s[e - 1] == ' ' || s[e - 1] == '\0')) --e;
+  return std::string(s.substr(0, e));
+}
+
+std::string CheckHeader(int64_t cols, int64_t rows, int64_t form, int64_t type, std::string name,
+                        Header& h) {
+  for (char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x7f) {
+      return "matrix name '" + Printable(name) + "' has non-printable characters";
+    }
+  }
+  const std::string who = "matrix '" + name + "': ";
+  if (type < 1 || type > 4) {
+    return who + "unknown type code " + std::to_string(type) +
+           " (expected 1 real single, 2 real double, 3 complex single, 4 complex double)";
+  }
+  if (form < 1 || form > 15) {
+    return who + "unknown form code " + std::to_string(form) + " (expected 1..15)";
+  }
+  if (cols < 0) return who + "negative column count " + std::to_string(cols);
+  if (rows == std::numeric_limits<int64_t>::min()) return who + "absurd row count";
+  const int64_t abs_rows = rows < 0 ? -rows : rows;
+  if (cols > fe_text::kMaxDimension || abs_rows > fe_text::kMaxDimension) {
+    return who + "dimensions " + std::to_string(abs_rows) + " x " + std::to_string(cols) +
+           " are beyond the supported 2^53 (a corrupt header)";
+  }
+  if (form == 6 && abs_rows != cols) {
+    return who + "form 6 (symmetric) but not square: " + std::to_string(abs_rows) + " x " +
+           std::to_string(cols);
+  }
+  h.name = std::move(name);
+  h.cols = cols;
+  h.rows = abs_rows;
+  h.form = static_cast<int>(form);
+  h.type = static_cast<int>(type);
+  h.bigmat = rows < 0 || abs_rows >= kBigmatRows;
+  return "";
+}
+
+std::string MatrixBuilder::StartColumn(int64_t col) {
+  const std::string who = "matrix '" + h_.name + "': ";
+  if (col < 1 || col > h_.cols) {
+    return who + "column index " + std::to_string(col) + " out of range 1.." +
+           std::to_string(h_.cols) + " (or " + std::to_string(h_.cols + 1) + " to end the matrix)";
+  }
+  if (col < col_) {
+    return who + "column " + std::to_string(col) + " follows column " + std::to_string(col_) +
+           " (columns must ascend)";
+  }
+  if (col > col_) {
+    col_ = col;
+    next_row_ = 1;
+  }
+  return "";
+}
+
+std::string MatrixBuilder::BeginRun(int64_t row, int64_t count) {
+  const std::string who = "matrix '" + h_.name + "': ";
+  if (count < 0) return who + "negative value count";
+  if (row < 1 || row > h_.rows) {
+    return who + "row " + std::to_string(row) + " of column " + std::to_string(col_) +
+           " out of range 1.." + std::to_string(h_.rows);
+  }
+  if (count > h_.rows - row + 1) {
+    return who + "column " + std::to_string(col_) + ": " + std::to_string(count) +
+           " values starting at row " + std::to_string(row) + " run past row " +
+           std::to_string(h_.rows);
+  }
+  if (row < next_row_) {
+    return who + "column " + std::to_string(col_) + ": row " + std::to_string(row) +
+           " given again (rows must ascend within a column)";
+  }
+  next_row_ = row + count;
+  return "";
+}
+
+FeMatrix MatrixBuilder::Finish(int precision_bits, const FeReadOptions& options,
+                               const std::string& file, const std::string& where) const {
+  FeMatrix m;
+  m.name = h_.name;
+  m.rows = h_.rows;
+  m.cols = h_.cols;
+  m.symmetric = h_.form == 6;
+  m.is_complex = h_.Complex();
+  m.source_precision_bits = precision_bits;
+  fe_text::CheckStorage(file, where, m, std::max(re_.size(), im_.size()), options);
+  if (options.coordinate) {
+    BuildCoordinates(m.coo);
+    m.coordinate = true;
+    return m;
+  }
+  Build(re_, m.real);
+  if (m.is_complex) Build(im_, m.imag);
+  return m;
+}
+
+// Fills the compressed storage directly from the sorted entries: no transposed temporary, so
+// only the column count and the entry count cost memory.
+void MatrixBuilder::Build(const std::vector<Entry>& e, Eigen::SparseMatrix<double>& out) const {
+  out.resize(static_cast<Eigen::Index>(h_.rows), static_cast<Eigen::Index>(h_.cols));
+  out.reserve(static_cast<Eigen::Index>(e.size()));
+  size_t k = 0;
+  for (int j = 0; j < static_cast<int>(h_.cols); ++j) {
+    out.startVec(j);
+    for (; k < e.size() && e[k].col == j; ++k) {
+      out.insertBack(static_cast<int>(e[k].row), j) = e[k].value;
+    }
+  }
+  out.finalize();
+}
+
+// Merges the real and imaginary entries (both sorted by column, then row) into one list of the
+// positions where either part is stored.
+void MatrixBuilder::BuildCoordinates(FeCoordinates& c) const {
+  const bool complex = h_.Complex();
+  size_t a = 0, b = 0;
+  const auto before = [](const Entry& x, const Entry& y) {
+    return x.col != y.col ? x.col < y.col : x.row < y.row;
+  };
+  while (a < re_.size() || (complex && b < im_.size())) {
+    const bool take_re = a < re_.size() && (!complex || b >= im_.size() || !before(im_[b], re_[a]));
+    const bool take_im = complex && b < im_.size() && (a >= re_.size() || !before(re_[a], im_[b]));
+    const Entry& at = take_re ? re_[a] : im_[b];
+    c.row.push_back(at.row);
+    c.col.push_back(at.col);
+    c.re.push_back(take_re ? re_[a++].value : 0.0);
+    if (complex) c.im.push_back(take_im ? im_[b++].value : 0.0);
+  }
+}
+
+}  // namespace fricrom::op4
