@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,6 +49,12 @@ enum class CraigBamptonStatus {
 };
 const char* ToString(CraigBamptonStatus status);
 
+// max(a, b), but NaN when either is NaN (std::max(a, NaN) returns a: a NaN check would pass).
+inline double NanMax(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::quiet_NaN();
+  return a < b ? b : a;
+}
+
 // Structural checks on the reduced matrices, each a max-abs error divided by a scale (given).
 struct CraigBamptonChecks {
   double stiffness_symmetry = 0.0;  // max|K_r - K_r^T| / max|K_r|
@@ -65,18 +73,18 @@ struct CraigBamptonSummary {
   int num_dofs = 0;
   int num_boundary = 0;
   int num_interior = 0;
-  int modes = 0;                        // fixed-interface modes kept
-  std::vector<double> frequencies_hz;   // of the kept modes, ascending
-  bool dense_eigensolver = false;       // interior small enough for the dense path
-  int eigen_batches = 0;                // ARPACK runs (several when searching up to cutoff_hz)
-  int eigen_restarts = 0;               // ARPACK iterations summed over the batches
-  int operator_applications = 0;        // shift-invert solves summed over the batches
+  int modes = 0;                       // fixed-interface modes kept
+  std::vector<double> frequencies_hz;  // of the kept modes, ascending
+  bool dense_eigensolver = false;      // interior small enough for the dense path
+  int eigen_batches = 0;               // ARPACK runs (several when searching up to cutoff_hz)
+  int eigen_restarts = 0;              // ARPACK iterations summed over the batches
+  int operator_applications = 0;       // shift-invert solves summed over the batches
   CraigBamptonChecks checks;
-  double factor_s = 0.0;                // CHOLMOD analyse + factorise (all factors)
-  double constraint_modes_s = 0.0;      // multi-RHS solve for Psi
-  double eigen_s = 0.0;                 // fixed-interface modes
-  double assembly_s = 0.0;              // T^T K T, T^T M T and checks
-  double wall_s = 0.0;                  // total
+  double factor_s = 0.0;            // CHOLMOD analyse + factorise (all factors)
+  double constraint_modes_s = 0.0;  // multi-RHS solve for Psi
+  double eigen_s = 0.0;             // fixed-interface modes
+  double assembly_s = 0.0;          // T^T K T, T^T M T and checks
+  double wall_s = 0.0;              // total
 
   bool IsSolutionUsable() const { return status == CraigBamptonStatus::kSuccess; }
   std::string BriefReport() const;
@@ -86,26 +94,27 @@ struct ReducedModel {
   // Dense (nb + nq) x (nb + nq): rows/cols [boundary DOFs in the given order | modal coordinates].
   Eigen::MatrixXd stiffness;
   Eigen::MatrixXd mass;
-  std::vector<int> boundary_dofs;         // indices in the full model, order of the rows above
-  Eigen::VectorXd modal_frequencies_hz;   // fixed-interface frequencies of the modal coordinates
+  std::vector<int> boundary_dofs;        // indices in the full model, order of the rows above
+  Eigen::VectorXd modal_frequencies_hz;  // fixed-interface frequencies of the modal coordinates
   // Interior recovery: u_interior = constraint_modes * u_b + normal_modes * q, interior DOFs in
   // ascending full-model order (interior_dofs).
   std::vector<int> interior_dofs;
-  Eigen::MatrixXd constraint_modes;       // Psi, n_i x n_b
-  Eigen::MatrixXd normal_modes;           // Phi, n_i x n_q, mass-normalised
+  Eigen::MatrixXd constraint_modes;  // Psi, n_i x n_b
+  Eigen::MatrixXd normal_modes;      // Phi, n_i x n_q, mass-normalised
 };
 
 // Craig-Bampton reduction. K and M: symmetric (both triangles stored), same square size.
 // boundary: distinct indices in [0, n), may be empty (pure fixed-interface modal reduction, then
 // K must be factorable with the shift, i.e. shift < 0 for a free-free body).
 // Throws std::invalid_argument on wrong sizes, non-symmetric input, out-of-range or duplicate
-// indices and invalid options; numerical failures are reported in summary->status (the returned
-// model is then empty unless status == kChecksFailed). summary may not be null.
+// indices, non-finite entries and invalid options; M may be positive semi-definite (massless
+// DOFs; their infinite eigenvalues are never kept); numerical failures are reported in
+// summary->status (the returned model is then empty unless status == kChecksFailed). summary may
+// not be null.
 ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
                                 const Eigen::SparseMatrix<double>& mass,
                                 const std::vector<int>& boundary,
-                                const CraigBamptonOptions& options,
-                                CraigBamptonSummary* summary);
+                                const CraigBamptonOptions& options, CraigBamptonSummary* summary);
 
 // ---- Boundary selection -------------------------------------------------------------------
 
@@ -116,8 +125,8 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
 // unknown (the message lists the sets the model has), the matrix has no DOF map, or a node of a
 // set has none of the requested components in the matrix (e.g. a constrained node).
 struct BoundarySelection {
-  std::vector<int> indices;  // row indices in `matrix`
-  std::vector<DofId> dofs;   // the same rows as (node, component)
+  std::vector<int> indices;    // row indices in `matrix`
+  std::vector<DofId> dofs;     // the same rows as (node, component)
   std::vector<int64_t> nodes;  // distinct nodes, in order of first appearance
 };
 BoundarySelection SelectBoundaryDofs(const FeModel& model, const FeMatrix& matrix,
@@ -132,9 +141,9 @@ struct ModalSolveOptions {
   // definite (free-free body), a negative shift is chosen from the matrices' scale instead.
   double shift = 0.0;
   bool auto_shift = true;
-  double tolerance = 0.0;        // ARPACK relative accuracy; 0 = machine precision
+  double tolerance = 0.0;  // ARPACK relative accuracy; 0 = machine precision
   int max_iterations = 1000;
-  int dense_max_size = 200;      // models up to this size are solved densely
+  int dense_max_size = 200;  // models up to this size are solved densely
   bool IsValid(std::string* error) const;
 };
 
@@ -144,21 +153,27 @@ const char* ToString(ModalSolveStatus status);
 struct ModalSolveResult {
   ModalSolveStatus status = ModalSolveStatus::kSuccess;
   std::string message;
-  Eigen::VectorXd lambda;        // eigenvalues omega^2 [rad^2/s^2], ascending
+  Eigen::VectorXd lambda;          // eigenvalues omega^2 [rad^2/s^2], ascending
   Eigen::VectorXd frequencies_hz;  // sqrt(max(lambda, 0)) / 2 pi
-  Eigen::MatrixXd modes;         // mass-normalised, one column per eigenvalue
+  Eigen::MatrixXd modes;           // mass-normalised, one column per eigenvalue
   double shift_used = 0.0;
   int restarts = 0;
   double wall_s = 0.0;
 };
 
-// The `num_modes` lowest eigenpairs of K phi = lambda M phi (K, M symmetric, both triangles).
-// Throws std::invalid_argument on wrong sizes or invalid options.
+// The `num_modes` lowest eigenpairs of K phi = lambda M phi (K, M symmetric, both triangles; M
+// may be only positive semi-definite: infinite eigenvalues of massless DOFs are never returned, so
+// fewer than num_modes may come back from the dense path). ARPACK shift-invert; the dense solver
+// for small models, for more than a quarter of the spectrum, or when ARPACK stops (up to 6000
+// DOFs). Throws std::invalid_argument on wrong sizes, non-finite entries or invalid options.
 ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
                                   const Eigen::SparseMatrix<double>& mass,
                                   const ModalSolveOptions& options);
 
-// Eigenvalues (ascending, omega^2) of a dense reduced model.
+// Finite eigenvalues (ascending, omega^2) of a dense reduced model, through a Cholesky factor of
+// K - sigma M (never of M: a reduced M is only positive semi-definite when boundary DOFs carry no
+// mass); infinite eigenvalues are dropped, so fewer than n may come back. Throws
+// std::invalid_argument on non-finite entries or when no shift tried makes K - sigma M definite.
 Eigen::VectorXd ReducedEigenvalues(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
 
 // ---- Static response check -------------------------------------------------------------------
@@ -168,7 +183,8 @@ Eigen::VectorXd ReducedEigenvalues(const Eigen::MatrixXd& stiffness, const Eigen
 // the full model (CHOLMOD solve), and at the interior DOFs recovered by u_i = Psi u_b + Phi q.
 // The boundary values are exact for any number of modes (static condensation is exact on the
 // boundary), so their error is a consistency check; the interior error measures how well the kept
-// modes carry an interior load. K must be positive definite (a supported body).
+// modes carry an interior load. K must be positive definite (a supported body). Not solved (with
+// a message) when K is not definite or the load is zero (no translational DOF with mass).
 struct StaticCheckResult {
   bool solved = false;
   std::string message;
@@ -192,8 +208,8 @@ Eigen::MatrixXd RigidBodyModes(const FeModel& model, const std::vector<DofId>& d
                                const Eigen::Vector3d& reference = Eigen::Vector3d::Zero());
 
 struct MassProperties {
-  double mass = 0.0;                                         // [kg]
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();          // [m]
+  double mass = 0.0;                                            // [kg]
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();             // [m]
   Eigen::Matrix3d inertia_at_center = Eigen::Matrix3d::Zero();  // [kg m^2]
 };
 // From the 6 x 6 rigid-body mass matrix R^T M R (R about the origin). Throws if its mass <= 0.

@@ -1,8 +1,8 @@
 #include "arpack_eigs.h"
 
 #include <algorithm>
-#include <numeric>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -85,8 +85,8 @@ EigsResult ShiftInvertEigs(SymShiftInvertCholmodOp& op, int nev, double tol, int
   }
   const int nconv = iparam[4];
   if (nconv < nev) {
-    out.message = "ARPACK converged " + std::to_string(nconv) + " of " + std::to_string(nev) +
-                  " eigenpairs";
+    out.message =
+        "ARPACK converged " + std::to_string(nconv) + " of " + std::to_string(nev) + " eigenpairs";
     return out;
   }
   std::vector<int> order(static_cast<size_t>(nev));

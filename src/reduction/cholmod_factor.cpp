@@ -106,7 +106,8 @@ bool CholmodFactor::Factorize(const Eigen::SparseMatrix<double>& a, std::string*
   return true;
 }
 
-void CholmodFactor::Solve(const Eigen::Ref<const Eigen::MatrixXd>& b, Eigen::Ref<Eigen::MatrixXd> x) {
+void CholmodFactor::Solve(const Eigen::Ref<const Eigen::MatrixXd>& b,
+                          Eigen::Ref<Eigen::MatrixXd> x) {
   if (n_ == 0 || b.cols() == 0) return;
   Impl& im = *impl_;
   // Blocks of columns keep CHOLMOD's copies bounded for many right-hand sides.
@@ -131,6 +132,59 @@ void CholmodFactor::Solve(const Eigen::Ref<const Eigen::MatrixXd>& b, Eigen::Ref
       x.col(c0 + j) = Eigen::Map<const Eigen::VectorXd>(xs + ld * static_cast<size_t>(j), n_);
     }
   }
+}
+
+bool CountEigenvaluesBelow(const Eigen::SparseMatrix<double>& k,
+                           const Eigen::SparseMatrix<double>& m, double lambda, int* count,
+                           std::string* error) {
+  Eigen::SparseMatrix<double> lower =
+      Eigen::SparseMatrix<double>(k - lambda * m).triangularView<Eigen::Lower>();
+  lower.makeCompressed();
+  if (lower.rows() == 0) {
+    *count = 0;
+    return true;
+  }
+  cholmod_sparse view{};
+  view.nrow = view.ncol = static_cast<size_t>(lower.rows());
+  view.nzmax = static_cast<size_t>(lower.nonZeros());
+  view.p = lower.outerIndexPtr();
+  view.i = lower.innerIndexPtr();
+  view.x = lower.valuePtr();
+  view.stype = -1;
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = 1;
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  common.error_handler = nullptr;
+  common.supernodal = CHOLMOD_SIMPLICIAL;  // LDL^T: indefinite matrices factorise
+  common.final_ll = 0;
+  cholmod_factor* f = cholmod_analyze(&view, &common);
+  bool ok = f != nullptr && common.status >= CHOLMOD_OK && cholmod_factorize(&view, f, &common) &&
+            f->minor == f->n && !f->is_ll;
+  if (ok) {
+    // Simplicial LDL^T: the first entry of column j of L holds D(j, j).
+    const int* colp = static_cast<const int*>(f->p);
+    const double* x = static_cast<const double*>(f->x);
+    int negative = 0;
+    for (size_t j = 0; j < f->n; ++j) {
+      const double d = x[colp[j]];
+      if (!std::isfinite(d) || d == 0.0) ok = false;
+      negative += d < 0.0 ? 1 : 0;
+    }
+    *count = negative;
+  }
+  if (!ok && error) {
+    *error =
+        "LDL^T of K - lambda M failed (zero pivot: lambda at an eigenvalue, or CHOLMOD status " +
+        std::to_string(common.status) + ")";
+  }
+  if (f) cholmod_free_factor(&f, &common);
+  cholmod_finish(&common);
+  return ok;
 }
 
 bool SymShiftInvertCholmodOp::set_shift(double sigma, std::string* error) {

@@ -36,6 +36,15 @@ class CholmodFactor {
   double rcond_ = 0.0;
 };
 
+// Number of eigenvalues of K x = lambda M x below `lambda` for K positive definite and M positive
+// semi-definite (Sylvester's law of inertia: the negative pivots of a CHOLMOD simplicial LDL^T of
+// K - lambda M, fill-reducing symmetric permutation, no pivoting). Infinite eigenvalues (massless
+// DOFs) are never counted. False with a message on a zero pivot (lambda at an eigenvalue) or a
+// CHOLMOD failure.
+bool CountEigenvaluesBelow(const Eigen::SparseMatrix<double>& k,
+                           const Eigen::SparseMatrix<double>& m, double lambda, int* count,
+                           std::string* error);
+
 // Spectra-style operator y = (K - sigma M)^-1 M x for generalised shift-invert eigenproblems.
 // References K and M, which must outlive it. perform_op_bx takes B x = M x already computed (as
 // ARPACK mode 3 provides it).
@@ -48,7 +57,10 @@ class SymShiftInvertCholmodOp {
   // Factorises K - sigma M; false (with a message) if it is not positive definite.
   bool set_shift(double sigma, std::string* error);
   // Adopt an existing factor of K (sigma = 0) instead of factorising again.
-  void use_factor(CholmodFactor* factor_of_k) { external_ = factor_of_k; sigma_ = 0.0; }
+  void use_factor(CholmodFactor* factor_of_k) {
+    external_ = factor_of_k;
+    sigma_ = 0.0;
+  }
   double shift() const { return sigma_; }
   void perform_op(const double* x, double* y);      // y = (K - sigma M)^-1 M x
   void perform_op_bx(const double* bx, double* y);  // y = (K - sigma M)^-1 bx

@@ -15,31 +15,16 @@
 #include <string>
 #include <vector>
 
-#include "arpack_eigs.h"
-#include "cholmod_factor.h"
 #include "blas_gemm.h"
-#include "dense_modes.h"
+#include "cholmod_factor.h"
 #include "fricrom/reduction.h"
 #include "fricrom/units.h"
+#include "interior_modes.h"
 
 namespace fricrom {
 namespace {
 
-// Interior size up to which a cutoff search that needs a large share of the spectrum finishes
-// with the dense generalized eigensolver (a few minutes at this size) instead of failing.
-constexpr int kDenseFallbackMax = 6000;
-
-std::string CutoffAdvice(double cutoff_hz, int nev, int ni) {
-  return "; --cutoff-hz " + std::to_string(cutoff_hz) + " asks for more than " +
-         std::to_string(nev) + " of the " + std::to_string(ni) +
-         " interior modes, beyond shift-invert Lanczos and the dense limit of " +
-         std::to_string(kDenseFallbackMax) + " interior DOFs: lower the cutoff or give --modes";
-}
-
 using reduction_detail::CholmodFactor;
-using reduction_detail::EigsResult;
-using reduction_detail::ShiftInvertEigs;
-using reduction_detail::SymShiftInvertCholmodOp;
 using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point t0) {
@@ -56,7 +41,17 @@ double MaxAbs(const Eigen::SparseMatrix<double>& a) {
   return m;
 }
 
-void CheckSymmetric(const Eigen::SparseMatrix<double>& a, const char* name) {
+// Symmetric (relative 1e-8) and finite: a NaN or Inf in K or M is bad input, not a result.
+void CheckSymmetricFinite(const Eigen::SparseMatrix<double>& a, const char* name) {
+  for (int k = 0; k < a.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) {
+      if (!std::isfinite(it.value())) {
+        throw std::invalid_argument(
+            std::string("ReduceCraigBampton: ") + name + " holds a non-finite value at row " +
+            std::to_string(it.row() + 1) + ", column " + std::to_string(it.col() + 1));
+      }
+    }
+  }
   const Eigen::SparseMatrix<double> at = a.transpose();
   const Eigen::SparseMatrix<double> d = a - at;
   const double scale = MaxAbs(a);
@@ -110,25 +105,18 @@ Eigen::MatrixXd SparseTimesDense(const Eigen::SparseMatrix<double>& a, const Eig
   return Eigen::MatrixXd(cr);
 }
 
-struct Modes {
-  Eigen::VectorXd lambda;
-  Eigen::MatrixXd phi;
-};
-
-bool DenseModes(const Eigen::SparseMatrix<double>& k, const Eigen::SparseMatrix<double>& m,
-                double sigma, Modes* out, std::string* error) {
-  return reduction_detail::DenseLowestModes(k, m, sigma, static_cast<int>(k.rows()), &out->lambda,
-                                            &out->phi, error);
-}
-
 }  // namespace
 
 const char* ToString(CraigBamptonStatus status) {
   switch (status) {
-    case CraigBamptonStatus::kSuccess: return "SUCCESS";
-    case CraigBamptonStatus::kFactorizationFailed: return "FACTORIZATION_FAILED";
-    case CraigBamptonStatus::kEigenNotConverged: return "EIGEN_NOT_CONVERGED";
-    case CraigBamptonStatus::kChecksFailed: return "CHECKS_FAILED";
+    case CraigBamptonStatus::kSuccess:
+      return "SUCCESS";
+    case CraigBamptonStatus::kFactorizationFailed:
+      return "FACTORIZATION_FAILED";
+    case CraigBamptonStatus::kEigenNotConverged:
+      return "EIGEN_NOT_CONVERGED";
+    case CraigBamptonStatus::kChecksFailed:
+      return "CHECKS_FAILED";
   }
   return "UNKNOWN";
 }
@@ -157,8 +145,7 @@ double CraigBamptonChecks::Max() const {
   double worst = 0.0;
   for (double v : {stiffness_symmetry, mass_symmetry, stiffness_coupling, modal_mass,
                    modal_stiffness, eigen_residual}) {
-    if (!(v <= worst)) worst = v;  // takes v when v > worst or v is NaN
-    if (std::isnan(worst)) return worst;
+    worst = NanMax(worst, v);
   }
   return worst;
 }
@@ -173,20 +160,21 @@ std::string CraigBamptonSummary::BriefReport() const {
                 "psi %.3f, eig %.3f, assembly %.3f)",
                 ToString(status), num_dofs, num_boundary, num_interior, modes, f0, f1,
                 dense_eigensolver ? "dense" : "ARPACK", eigen_batches, eigen_restarts,
-                operator_applications, checks.Max(), wall_s, factor_s, constraint_modes_s,
-                eigen_s, assembly_s);
+                operator_applications, checks.Max(), wall_s, factor_s, constraint_modes_s, eigen_s,
+                assembly_s);
   std::string s = buf;
   if (!message.empty()) s += ": " + message;
   return s;
 }
 
-ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
+namespace {
+
+// Caller contract; returns the boundary flags. Throws std::invalid_argument.
+std::vector<bool> CheckContract(const Eigen::SparseMatrix<double>& stiffness,
                                 const Eigen::SparseMatrix<double>& mass,
                                 const std::vector<int>& boundary,
                                 const CraigBamptonOptions& options,
-                                CraigBamptonSummary* summary) {
-  const auto t_start = Clock::now();
-  // ---- 1. Caller contract.
+                                const CraigBamptonSummary* summary) {
   if (summary == nullptr) throw std::invalid_argument("ReduceCraigBampton: summary is null");
   std::string err;
   if (!options.IsValid(&err)) throw std::invalid_argument("CraigBamptonOptions: " + err);
@@ -208,12 +196,83 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
     }
     is_boundary[b] = true;
   }
-  CheckSymmetric(stiffness, "K");
-  CheckSymmetric(mass, "M");
+  CheckSymmetricFinite(stiffness, "K");
+  CheckSymmetricFinite(mass, "M");
+  return is_boundary;
+}
 
+// T^T K T and T^T M T with T = [[I, 0], [Psi, Phi]], block by block: K_ib and M_ib stay sparse
+// (a few boundary columns); the dense work is M_ii Psi and Psi^T (M_ii Psi) (lower triangle).
+// Fills the structural checks except the eigen residual.
+void Assemble(const Blocks& kb, const Blocks& mb, const Eigen::VectorXd& lambda,
+              const Eigen::MatrixXd& kii_phi, const Eigen::MatrixXd& mii_phi, double k_max,
+              ReducedModel* out, CraigBamptonChecks* ch) {
+  using reduction_detail::TransposeTimes;
+  const Eigen::MatrixXd& psi = out->constraint_modes;
+  const Eigen::MatrixXd& phi = out->normal_modes;
+  const int nb = static_cast<int>(psi.cols()), ni = static_cast<int>(psi.rows());
+  const int nq = static_cast<int>(phi.cols());
+  // K: K_ii Psi = -K_ib, so K_bb + K_ib^T Psi + Psi^T (K_ib + K_ii Psi) = K_bb + K_ib^T Psi.
+  Eigen::MatrixXd& k = out->stiffness;
+  k.resize(nb + nq, nb + nq);
+  k.topLeftCorner(nb, nb) = kb.bb + kb.ib.transpose() * psi;
+  const Eigen::MatrixXd kbq = kb.ib.transpose() * phi + TransposeTimes(psi, kii_phi);
+  k.topRightCorner(nb, nq) = kbq;
+  k.bottomLeftCorner(nq, nb) = kbq.transpose();
+  k.bottomRightCorner(nq, nq) = TransposeTimes(phi, kii_phi);
+  const Eigen::MatrixXd mii_psi = SparseTimesDense(mb.ii, psi);
+  const Eigen::MatrixXd mib_t_psi = mb.ib.transpose() * psi;
+  Eigen::MatrixXd& m = out->mass;
+  m.resize(nb + nq, nb + nq);
+  m.topLeftCorner(nb, nb) =
+      mb.bb + mib_t_psi + mib_t_psi.transpose() +
+      (nb > 0 && ni > 0 ? TransposeTimes(psi, mii_psi) : Eigen::MatrixXd::Zero(nb, nb));
+  const Eigen::MatrixXd mbq = mb.ib.transpose() * phi + TransposeTimes(psi, mii_phi);
+  m.topRightCorner(nb, nq) = mbq;
+  m.bottomLeftCorner(nq, nb) = mbq.transpose();
+  m.bottomRightCorner(nq, nq) = TransposeTimes(phi, mii_phi);
+
+  const double kmax = MaxAbs(k), mmax = MaxAbs(m);
+  ch->stiffness_symmetry = kmax > 0 ? MaxAbs(Eigen::MatrixXd(k - k.transpose())) / kmax : 0.0;
+  ch->mass_symmetry = mmax > 0 ? MaxAbs(Eigen::MatrixXd(m - m.transpose())) / mmax : 0.0;
+  const double coupling_scale = k_max * MaxAbs(phi) * (1.0 + MaxAbs(psi));
+  ch->stiffness_coupling = coupling_scale > 0 ? MaxAbs(kbq) / coupling_scale : 0.0;
+  if (nq > 0) {
+    const auto qq = Eigen::seqN(nb, nq);
+    ch->modal_mass = MaxAbs(Eigen::MatrixXd(m(qq, qq) - Eigen::MatrixXd::Identity(nq, nq)));
+    ch->modal_stiffness = MaxAbs(Eigen::MatrixXd(k(qq, qq) - Eigen::MatrixXd(lambda.asDiagonal())));
+  }
+  k = 0.5 * (k + k.transpose()).eval();
+  m = 0.5 * (m + m.transpose()).eval();
+}
+
+// max_j ||K_ii phi_j - lambda_j M_ii phi_j|| / ((max|K_ii| + |lambda_j| max|M_ii|) ||phi_j||),
+// NaN-propagating.
+double EigenResidual(const Blocks& kb, const Blocks& mb, const Eigen::VectorXd& lambda,
+                     const Eigen::MatrixXd& phi, const Eigen::MatrixXd& kii_phi,
+                     const Eigen::MatrixXd& mii_phi) {
+  const double kii_max = MaxAbs(kb.ii), mii_max = MaxAbs(mb.ii);
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < lambda.size(); ++j) {
+    const double den = (kii_max + std::abs(lambda(j)) * mii_max) * phi.col(j).norm();
+    const double r = (kii_phi.col(j) - lambda(j) * mii_phi.col(j)).norm();
+    worst = NanMax(worst, den > 0 ? r / den : r);
+  }
+  return worst;
+}
+
+}  // namespace
+
+ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
+                                const Eigen::SparseMatrix<double>& mass,
+                                const std::vector<int>& boundary,
+                                const CraigBamptonOptions& options, CraigBamptonSummary* summary) {
+  const auto t_start = Clock::now();
+  // ---- 1. Caller contract.
+  const std::vector<bool> is_boundary = CheckContract(stiffness, mass, boundary, options, summary);
   CraigBamptonSummary& s = *summary;
   s = CraigBamptonSummary{};
-  const int nb = static_cast<int>(boundary.size());
+  const int n = static_cast<int>(stiffness.rows()), nb = static_cast<int>(boundary.size());
   const int ni = n - nb;
   s.num_dofs = n;
   s.num_boundary = nb;
@@ -246,206 +305,74 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
 
   // ---- 3. Factor K_ii once; constraint modes Psi = -K_ii^-1 K_ib.
   CholmodFactor kfac;
-  const bool need_kfac = ni > 0 && (nb > 0 || options.shift == 0.0);
+  std::string err;
   auto t0 = Clock::now();
-  if (need_kfac && !kfac.Factorize(kb.ii, &err)) {
+  if (ni > 0 && (nb > 0 || options.shift == 0.0) && !kfac.Factorize(kb.ii, &err)) {
     s.factor_s = Seconds(t0);
     return finish(CraigBamptonStatus::kFactorizationFailed,
                   "K_ii: " + err +
-                      (nb == 0 ? "" : "; the boundary DOFs must suppress every rigid-body motion "
-                                      "of the interior"));
+                      (nb == 0 ? ""
+                               : "; the boundary DOFs must suppress every rigid-body motion "
+                                 "of the interior"));
   }
   s.factor_s = Seconds(t0);
   t0 = Clock::now();
   out.constraint_modes = Eigen::MatrixXd::Zero(ni, nb);
   if (ni > 0 && nb > 0) {
-    const Eigen::MatrixXd kib = Eigen::MatrixXd(kb.ib);
-    kfac.Solve(kib, out.constraint_modes);
+    kfac.Solve(Eigen::MatrixXd(kb.ib), out.constraint_modes);
     out.constraint_modes = -out.constraint_modes;
   }
   s.constraint_modes_s = Seconds(t0);
 
-  // ---- 4. Fixed-interface modes.
+  // ---- 4. Fixed-interface modes (M_ii may be only positive semi-definite), mass-normalised.
   t0 = Clock::now();
-  const bool by_cutoff = options.cutoff_hz > 0.0;
-  const double lambda_cut = std::pow(kTwoPi * options.cutoff_hz, 2);
-  Modes modes;
-  Eigen::MatrixXd mii_phi = Eigen::MatrixXd::Zero(ni, 0);
-  std::string note;
-  if (ni > 0) {
-    const int first_nev = std::min(options.num_modes, ni);
-    const bool dense = ni <= options.dense_eigen_max_size || first_nev > ni - 2;
-    if (!dense) {
-      SymShiftInvertCholmodOp op(kb.ii, mb.ii);
-      if (options.shift == 0.0) {
-        op.use_factor(&kfac);
-      } else {
-        const auto tf = Clock::now();
-        const bool ok = op.set_shift(options.shift, &err);
-        s.factor_s += Seconds(tf);
-        if (!ok) {
-          s.eigen_s = Seconds(t0);
-          return finish(CraigBamptonStatus::kFactorizationFailed, "K_ii - shift * M_ii: " + err);
-        }
-      }
-      int nev = first_nev;
-      bool go_dense = false;
-      while (true) {
-        const EigsResult r = ShiftInvertEigs(op, nev, options.eigen_tolerance,
-                                             options.max_eigen_iterations);
-        ++s.eigen_batches;
-        s.eigen_restarts += r.restarts;
-        s.operator_applications = op.applications();
-        // A cutoff high in the spectrum asks Lanczos for a large share of all modes (it slows
-        // down, then stops: dsaupd info 3 when massless DOFs leave fewer finite modes): such a
-        // search finishes with the dense solver when the interior is small enough, else stops
-        // saying why.
-        const bool searching = by_cutoff && nev > first_nev;
-        if (!r.converged && !(searching && ni <= kDenseFallbackMax)) {
-          s.eigen_s = Seconds(t0);
-          return finish(CraigBamptonStatus::kEigenNotConverged,
-                        r.message + (searching ? CutoffAdvice(options.cutoff_hz, nev, ni) : ""));
-        }
-        if (!r.converged) {
-          go_dense = true;
-          note = "ARPACK stopped at " + std::to_string(nev) + " modes (" + r.message +
-                 ") while searching the cutoff; dense eigensolver used";
-          break;
-        }
-        modes.lambda = r.lambda;
-        modes.phi = r.vectors;
-        if (!by_cutoff || r.lambda(nev - 1) > lambda_cut) break;
-        if (nev >= ni - 2 || 2 * nev > ni / 4) {  // a large share of the spectrum: go dense
-          if (ni > kDenseFallbackMax) {
-            s.eigen_s = Seconds(t0);
-            return finish(CraigBamptonStatus::kEigenNotConverged,
-                          "the " + std::to_string(nev) + " lowest interior modes all lie below " +
-                              "the cutoff" + CutoffAdvice(options.cutoff_hz, nev, ni));
-          }
-          go_dense = true;
-          break;
-        }
-        nev = std::min(2 * nev, ni - 2);
-      }
-      if (go_dense) {
-        if (note.empty()) note = "cutoff high in the spectrum, dense eigensolver used";
-        if (!DenseModes(kb.ii, mb.ii, options.shift, &modes, &err)) {
-          s.eigen_s = Seconds(t0);
-          return finish(CraigBamptonStatus::kFactorizationFailed, err);
-        }
-        s.dense_eigensolver = true;
-      }
-    } else {
-      s.dense_eigensolver = true;
-      if (!DenseModes(kb.ii, mb.ii, options.shift, &modes, &err)) {
-        s.eigen_s = Seconds(t0);
-        return finish(CraigBamptonStatus::kFactorizationFailed, err);
-      }
-    }
-    // Selection.
-    int keep = 0;
-    if (by_cutoff) {
-      while (keep < modes.lambda.size() && modes.lambda(keep) <= lambda_cut) ++keep;
-    } else {
-      keep = std::min<int>(options.num_modes, static_cast<int>(modes.lambda.size()));
-      if (keep < options.num_modes) {
-        note = "num_modes clamped to " + std::to_string(keep) + " (interior modes available)";
-      }
-    }
-    modes.lambda.conservativeResize(keep);
-    modes.phi.conservativeResize(Eigen::NoChange, keep);
-    // Mass normalisation (ARPACK's M-orthonormality, made exact per column); M_ii Phi is kept
-    // for the reduced mass matrix and the residual check.
-    mii_phi = SparseTimesDense(mb.ii, modes.phi);
-    for (int j = 0; j < keep; ++j) {
-      const double scale = 1.0 / std::sqrt(modes.phi.col(j).dot(mii_phi.col(j)));
-      modes.phi.col(j) *= scale;
-      mii_phi.col(j) *= scale;
-    }
+  reduction_detail::InteriorModes modes =
+      reduction_detail::ComputeInteriorModes(kb.ii, mb.ii, &kfac, options);
+  s.factor_s += modes.factor_s;
+  s.dense_eigensolver = modes.dense;
+  s.eigen_batches = modes.batches;
+  s.eigen_restarts = modes.restarts;
+  s.operator_applications = modes.applications;
+  if (modes.status != CraigBamptonStatus::kSuccess) {
+    s.eigen_s = Seconds(t0);
+    return finish(modes.status, modes.message);
+  }
+  const int nq = static_cast<int>(modes.lambda.size());
+  Eigen::MatrixXd mii_phi = SparseTimesDense(mb.ii, modes.phi);
+  for (int j = 0; j < nq; ++j) {
+    const double scale = 1.0 / std::sqrt(modes.phi.col(j).dot(mii_phi.col(j)));
+    modes.phi.col(j) *= scale;
+    mii_phi.col(j) *= scale;
   }
   s.eigen_s = Seconds(t0);
-  const int nq = static_cast<int>(modes.lambda.size());
   s.modes = nq;
   out.modal_frequencies_hz.resize(nq);
   for (int j = 0; j < nq; ++j) {
     out.modal_frequencies_hz(j) = std::sqrt(std::max(modes.lambda(j), 0.0)) / kTwoPi;
     s.frequencies_hz.push_back(out.modal_frequencies_hz(j));
   }
-  out.normal_modes = modes.phi;
+  out.normal_modes = std::move(modes.phi);
 
-  // ---- 5. Reduced matrices T^T A T with T = [[I, 0], [Psi, Phi]], and checks.
+  // ---- 5. Reduced matrices and their checks; any non-finite value fails the run.
   t0 = Clock::now();
-  const Eigen::MatrixXd& psi = out.constraint_modes;
-  const Eigen::MatrixXd& phi = out.normal_modes;
-  // K_ib and M_ib stay sparse (a few boundary columns): every product with them is cheap; the
-  // dense work is M_ii Psi and the Psi^T (M_ii Psi) product (lower triangle only).
-  using reduction_detail::TransposeTimes;
-  double kbq = 0.0;
-  Eigen::MatrixXd kii_phi;
-  {
-    // K: K_ii Psi = -K_ib, so K_bb + K_ib^T Psi + Psi^T (K_ib + K_ii Psi) = K_bb + K_ib^T Psi.
-    kii_phi = SparseTimesDense(kb.ii, phi);
-    Eigen::MatrixXd& r = out.stiffness;
-    r.resize(nb + nq, nb + nq);
-    r.topLeftCorner(nb, nb) = kb.bb + kb.ib.transpose() * psi;
-    const Eigen::MatrixXd kbq_block = kb.ib.transpose() * phi + TransposeTimes(psi, kii_phi);
-    r.topRightCorner(nb, nq) = kbq_block;
-    r.bottomLeftCorner(nq, nb) = kbq_block.transpose();
-    r.bottomRightCorner(nq, nq) = TransposeTimes(phi, kii_phi);
-    kbq = MaxAbs(kbq_block);
-  }
-  {
-    const Eigen::MatrixXd mii_psi = SparseTimesDense(mb.ii, psi);
-    const Eigen::MatrixXd mib_t_psi = mb.ib.transpose() * psi;
-    Eigen::MatrixXd& r = out.mass;
-    r.resize(nb + nq, nb + nq);
-    r.topLeftCorner(nb, nb) = mb.bb + mib_t_psi + mib_t_psi.transpose() +
-                              (nb > 0 && ni > 0 ? TransposeTimes(psi, mii_psi)
-                                                : Eigen::MatrixXd::Zero(nb, nb));
-    const Eigen::MatrixXd mbq = mb.ib.transpose() * phi + TransposeTimes(psi, mii_phi);
-    r.topRightCorner(nb, nq) = mbq;
-    r.bottomLeftCorner(nq, nb) = mbq.transpose();
-    r.bottomRightCorner(nq, nq) = TransposeTimes(phi, mii_phi);
-  }
+  const Eigen::MatrixXd kii_phi = SparseTimesDense(kb.ii, out.normal_modes);
   CraigBamptonChecks& ch = s.checks;
-  const double kmax = MaxAbs(out.stiffness), mmax = MaxAbs(out.mass);
-  ch.stiffness_symmetry =
-      kmax > 0 ? MaxAbs(Eigen::MatrixXd(out.stiffness - out.stiffness.transpose())) / kmax : 0.0;
-  ch.mass_symmetry =
-      mmax > 0 ? MaxAbs(Eigen::MatrixXd(out.mass - out.mass.transpose())) / mmax : 0.0;
-  const double coupling_scale = MaxAbs(stiffness) * MaxAbs(phi) * (1.0 + MaxAbs(psi));
-  ch.stiffness_coupling = coupling_scale > 0 ? kbq / coupling_scale : 0.0;
+  Assemble(kb, mb, modes.lambda, kii_phi, mii_phi, MaxAbs(stiffness), &out, &ch);
   if (nq > 0) {
-    const auto qq = Eigen::seqN(nb, nq);
-    ch.modal_mass = MaxAbs(Eigen::MatrixXd(out.mass(qq, qq) -
-                                           Eigen::MatrixXd::Identity(nq, nq)));
-    const double lscale =
+    ch.modal_stiffness /=
         std::max({modes.lambda.cwiseAbs().maxCoeff(), std::abs(options.shift), 1e-300});
-    ch.modal_stiffness =
-        MaxAbs(Eigen::MatrixXd(out.stiffness(qq, qq) -
-                               Eigen::MatrixXd(modes.lambda.asDiagonal()))) / lscale;
-    const double kii_max = MaxAbs(kb.ii), mii_max = MaxAbs(mb.ii);
-    for (int j = 0; j < nq; ++j) {
-      const auto kp = kii_phi.col(j);
-      const auto mp = mii_phi.col(j);
-      const double den = (kii_max + std::abs(modes.lambda(j)) * mii_max) * phi.col(j).norm();
-      if (den > 0)
-        ch.eigen_residual =
-            std::max(ch.eigen_residual, (kp - modes.lambda(j) * mp).norm() / den);
-    }
   }
-  out.stiffness = 0.5 * (out.stiffness + out.stiffness.transpose()).eval();
-  out.mass = 0.5 * (out.mass + out.mass.transpose()).eval();
+  ch.eigen_residual = EigenResidual(kb, mb, modes.lambda, out.normal_modes, kii_phi, mii_phi);
   s.assembly_s = Seconds(t0);
-
+  const std::string& note = modes.message;
   if (!out.stiffness.allFinite() || !out.mass.allFinite()) {
     return finish(CraigBamptonStatus::kChecksFailed,
                   "the reduced K or M holds non-finite values (singular interior or mass?)");
   }
   if (!(ch.Max() <= options.check_tolerance)) {  // NaN fails too
     char buf[128];
-    std::snprintf(buf, sizeof buf, "structural check %.3e exceeds check_tolerance %.1e",
-                  ch.Max(), options.check_tolerance);
+    std::snprintf(buf, sizeof buf, "structural check %.3e exceeds check_tolerance %.1e", ch.Max(),
+                  options.check_tolerance);
     return finish(CraigBamptonStatus::kChecksFailed, note.empty() ? buf : note + "; " + buf);
   }
   return finish(CraigBamptonStatus::kSuccess, note);

@@ -17,6 +17,7 @@
 #include "cholmod_factor.h"
 #include "dense_modes.h"
 #include "fricrom/reduction.h"
+#include "interior_modes.h"
 
 namespace fricrom {
 namespace {
@@ -31,14 +32,28 @@ double MaxAbsDiag(const Eigen::SparseMatrix<double>& a) {
 
 double MaxAbs(const Eigen::MatrixXd& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
 
+void CheckFinite(const Eigen::SparseMatrix<double>& a, const char* what) {
+  for (int k = 0; k < a.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) {
+      if (!std::isfinite(it.value())) {
+        throw std::invalid_argument(std::string(what) + " holds a non-finite value at row " +
+                                    std::to_string(it.row() + 1) + ", column " +
+                                    std::to_string(it.col() + 1));
+      }
+    }
+  }
+}
 
 }  // namespace
 
 const char* ToString(ModalSolveStatus status) {
   switch (status) {
-    case ModalSolveStatus::kSuccess: return "SUCCESS";
-    case ModalSolveStatus::kFactorizationFailed: return "FACTORIZATION_FAILED";
-    case ModalSolveStatus::kNotConverged: return "NOT_CONVERGED";
+    case ModalSolveStatus::kSuccess:
+      return "SUCCESS";
+    case ModalSolveStatus::kFactorizationFailed:
+      return "FACTORIZATION_FAILED";
+    case ModalSolveStatus::kNotConverged:
+      return "NOT_CONVERGED";
   }
   return "UNKNOWN";
 }
@@ -65,6 +80,8 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
   if (n == 0 || stiffness.cols() != n || mass.rows() != n || mass.cols() != n) {
     throw std::invalid_argument("SolveLowestModes: K and M must be square, non-empty, same size");
   }
+  CheckFinite(stiffness, "SolveLowestModes: K");
+  CheckFinite(mass, "SolveLowestModes: M");
   const auto t0 = Clock::now();
   ModalSolveResult r;
   const int count = std::min(options.num_modes, n);
@@ -75,7 +92,10 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
     const double scale = MaxAbsDiag(stiffness) / std::max(MaxAbsDiag(mass), 1e-300);
     for (const double f : {1e-8, 1e-6, 1e-4}) shifts.push_back(-f * scale);
   }
-  const bool dense = n <= options.dense_max_size || count > n - 2;
+  // Dense also for a large share of the spectrum (slow for Lanczos; with massless DOFs there may
+  // be fewer finite modes than asked for).
+  const bool dense = n <= options.dense_max_size || count > n - 2 ||
+                     (4 * count > n && n <= reduction_detail::kDenseFallbackMax);
   auto finish = [&](ModalSolveStatus st, const std::string& msg) {
     r.status = st;
     r.message = msg;
@@ -94,10 +114,17 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
     }
     reduction_detail::SymShiftInvertCholmodOp op(stiffness, mass);
     if (!op.set_shift(sigma, &err)) continue;
-    const reduction_detail::EigsResult e = reduction_detail::ShiftInvertEigs(
-        op, count, options.tolerance, options.max_iterations);
+    const reduction_detail::EigsResult e =
+        reduction_detail::ShiftInvertEigs(op, count, options.tolerance, options.max_iterations);
     r.restarts = e.restarts;
-    if (!e.converged) return finish(ModalSolveStatus::kNotConverged, e.message);
+    if (!e.converged) {
+      if (n <= reduction_detail::kDenseFallbackMax &&
+          reduction_detail::DenseLowestModes(stiffness, mass, sigma, count, &r.lambda, &r.modes,
+                                             nullptr)) {
+        return finish(ModalSolveStatus::kSuccess, "ARPACK: " + e.message + "; dense eigensolver");
+      }
+      return finish(ModalSolveStatus::kNotConverged, e.message);
+    }
     r.lambda = e.lambda;
     r.modes = e.vectors;
     for (int j = 0; j < r.modes.cols(); ++j) {
@@ -131,6 +158,12 @@ StaticCheckResult CompareStaticBodyLoad(const Eigen::SparseMatrix<double>& k,
     if (c >= 1 && c <= 3) a(i) = accel(c - 1);
   }
   const Eigen::VectorXd f = m * a;
+  if (!(f.cwiseAbs().maxCoeff() > 0.0)) {
+    out.message =
+        "the body load is zero (no translational DOFs with mass in the DOF map): "
+        "nothing to compare";
+    return out;
+  }
   reduction_detail::CholmodFactor factor;
   std::string err;
   if (!factor.Factorize(k, &err)) {
@@ -144,8 +177,9 @@ StaticCheckResult CompareStaticBodyLoad(const Eigen::SparseMatrix<double>& k,
   for (Eigen::Index i = 0; i < nb; ++i) fb(i) = f(red.boundary_dofs[static_cast<size_t>(i)]);
   for (Eigen::Index i = 0; i < fi.size(); ++i) fi(i) = f(red.interior_dofs[static_cast<size_t>(i)]);
   Eigen::VectorXd fr(nb + nq);
-  fr.head(nb) = fb + (red.constraint_modes.size() ? Eigen::VectorXd(red.constraint_modes.transpose() * fi)
-                                                  : Eigen::VectorXd::Zero(nb));
+  fr.head(nb) =
+      fb + (red.constraint_modes.size() ? Eigen::VectorXd(red.constraint_modes.transpose() * fi)
+                                        : Eigen::VectorXd::Zero(nb));
   if (nq > 0) fr.tail(nq) = red.normal_modes.transpose() * fi;
   Eigen::LDLT<Eigen::MatrixXd> ldlt(red.stiffness);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
@@ -251,10 +285,9 @@ Eigen::MatrixXd RigidBodyModes(const FeModel& model, const std::vector<DofId>& d
                                     " has no coordinates in " + model.source);
       }
       if (last->position_system != 0) {
-        throw std::invalid_argument("RigidBodyModes: node " + std::to_string(d.node) +
-                                    " gives its position in system " +
-                                    std::to_string(last->position_system) +
-                                    " (only basic positions are supported)");
+        throw std::invalid_argument(
+            "RigidBodyModes: node " + std::to_string(d.node) + " gives its position in system " +
+            std::to_string(last->position_system) + " (only basic positions are supported)");
       }
       axes = SystemAxes(model, last->displacement_system);
     }
@@ -304,9 +337,10 @@ CraigBamptonChecks CheckCraigBamptonMatrices(const Eigen::MatrixXd& k, const Eig
   ch.stiffness_symmetry = kmax > 0 ? MaxAbs(Eigen::MatrixXd(k - k.transpose())) / kmax : 0.0;
   ch.mass_symmetry = mmax > 0 ? MaxAbs(Eigen::MatrixXd(m - m.transpose())) / mmax : 0.0;
   if (nq > 0 && nb > 0) {
-    ch.stiffness_coupling = kmax > 0 ? std::max(MaxAbs(k.topRightCorner(nb, nq)),
-                                                MaxAbs(k.bottomLeftCorner(nq, nb))) / kmax
-                                     : 0.0;
+    ch.stiffness_coupling =
+        kmax > 0
+            ? std::max(MaxAbs(k.topRightCorner(nb, nq)), MaxAbs(k.bottomLeftCorner(nq, nb))) / kmax
+            : 0.0;
   }
   if (nq > 0) {
     const Eigen::MatrixXd mqq = m.bottomRightCorner(nq, nq);

@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
+#include "fricrom/fe_model.h"
 #include "fricrom/reduction.h"
 
 namespace fricrom {
@@ -26,10 +29,11 @@ TEST(SemidefiniteMass, ReducedEigenvaluesDropTheInfiniteOnes) {
   const Eigen::VectorXd lambda = ReducedEigenvalues(k, m);
   ASSERT_EQ(lambda.size(), 4);  // 5 DOFs, one without mass
   // Independent route: condense the massless DOF statically, then a standard eigenproblem.
-  const Eigen::MatrixXd kc = k.bottomRightCorner(4, 4) -
-                             k.block(1, 0, 4, 1) * k.block(0, 1, 1, 4) / k(0, 0);
+  const Eigen::MatrixXd kc =
+      k.bottomRightCorner(4, 4) - k.block(1, 0, 4, 1) * k.block(0, 1, 1, 4) / k(0, 0);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(kc);
-  for (int j = 0; j < 4; ++j) EXPECT_NEAR(lambda[j], es.eigenvalues()[j], 1e-9 * es.eigenvalues()[j]);
+  for (int j = 0; j < 4; ++j)
+    EXPECT_NEAR(lambda[j], es.eigenvalues()[j], 1e-9 * es.eigenvalues()[j]);
   EXPECT_NEAR(std::sqrt(lambda[0]) / (2 * M_PI), 1.452462941099621, 1e-9);
 }
 
@@ -42,7 +46,8 @@ TEST(SemidefiniteMass, CraigBamptonWithAMasslessBoundaryNodeIsFiniteAndExact) {
   const ReducedModel red = ReduceCraigBampton(k.sparseView(), m.sparseView(), {0, 1}, opt, &s);
   ASSERT_EQ(s.status, CraigBamptonStatus::kSuccess) << s.BriefReport();
   EXPECT_TRUE(red.stiffness.allFinite() && red.mass.allFinite());
-  const Eigen::VectorXd full = ReducedEigenvalues(k, m), reduced = ReducedEigenvalues(red.stiffness, red.mass);
+  const Eigen::VectorXd full = ReducedEigenvalues(k, m),
+                        reduced = ReducedEigenvalues(red.stiffness, red.mass);
   ASSERT_EQ(reduced.size(), full.size());  // all interior modes kept: the same finite spectrum
   for (int j = 0; j < full.size(); ++j) EXPECT_NEAR(reduced[j], full[j], 1e-9 * full[j]);
 }
@@ -79,9 +84,147 @@ TEST(SemidefiniteMass, CutoffAboveTheSpectrumFinishesDensely) {
   EXPECT_EQ(static_cast<int>(s.frequencies_hz.size()), n - 1 - 30);  // every finite interior mode
   EXPECT_TRUE(red.stiffness.allFinite() && red.mass.allFinite());
   // All finite modes kept: the reduced spectrum is the full one.
-  const Eigen::VectorXd full = ReducedEigenvalues(k, m), reduced = ReducedEigenvalues(red.stiffness, red.mass);
+  const Eigen::VectorXd full = ReducedEigenvalues(k, m),
+                        reduced = ReducedEigenvalues(red.stiffness, red.mass);
   ASSERT_EQ(reduced.size(), full.size());
   for (int j = 0; j < full.size(); j += 25) EXPECT_NEAR(reduced[j], full[j], 1e-7 * full[j]);
+}
+
+// ---- The C3D20R beam of tests/data/c3d20r_beam (ccx MATRIXSTORAGE, M only semi-definite).
+
+struct Beam {
+  FeModel model;
+  const FeMatrix* k = nullptr;
+  const FeMatrix* m = nullptr;
+};
+
+Beam ReadBeam() {
+  Beam b;
+  b.model = ReadFe(std::string(FRICROM_SOURCE_DIR) + "/tests/data/c3d20r_beam/beam.inp");
+  b.k = b.model.Find("STIFFNESS");
+  b.m = b.model.Find("MASS");
+  return b;
+}
+
+// Independent reference for K x = lambda M x with a singular M: in the eigenbasis of M, the
+// massless directions carry no inertia and are condensed statically; the rest is a standard
+// eigenproblem. Returns the finite eigenvalues, ascending.
+Eigen::VectorXd CondensedEigenvalues(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m,
+                                     int* null_dim) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> em(m);
+  const Eigen::VectorXd mu = em.eigenvalues();
+  const double tol = 1e-12 * mu.cwiseAbs().maxCoeff();
+  int n0 = 0;
+  while (n0 < mu.size() && mu(n0) < tol) ++n0;
+  *null_dim = n0;
+  const Eigen::Index nr = mu.size() - n0;
+  const Eigen::MatrixXd v = em.eigenvectors();
+  const Eigen::MatrixXd kt = v.transpose() * k * v;
+  const Eigen::MatrixXd k00 = kt.topLeftCorner(n0, n0), k0r = kt.topRightCorner(n0, nr);
+  const Eigen::MatrixXd kc = kt.bottomRightCorner(nr, nr) - k0r.transpose() * k00.ldlt().solve(k0r);
+  const Eigen::VectorXd s = mu.tail(nr).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd a = s.asDiagonal() * kc * s.asDiagonal();
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (a + a.transpose())).eigenvalues();
+}
+
+TEST(SemidefiniteMass, C3D20RBeamFullModelModesThroughArpackAndDense) {
+  const Beam b = ReadBeam();
+  ASSERT_TRUE(b.k && b.m);
+  ASSERT_EQ(b.k->rows, 114);
+  int null_dim = 0;
+  const Eigen::VectorXd ref =
+      CondensedEigenvalues(Eigen::MatrixXd(b.k->real), Eigen::MatrixXd(b.m->real), &null_dim);
+  EXPECT_EQ(null_dim, 30);  // the reduced-integration mass has 30 null directions here
+  EXPECT_EQ(ref.size(), 114 - 30);
+  for (const int dense_max : {0, 1000}) {  // ARPACK shift-invert (mode 3), then dense
+    ModalSolveOptions mo;
+    mo.num_modes = 10;
+    mo.dense_max_size = dense_max;
+    const ModalSolveResult r = SolveLowestModes(b.k->real, b.m->real, mo);
+    ASSERT_EQ(r.status, ModalSolveStatus::kSuccess) << r.message;
+    ASSERT_EQ(r.lambda.size(), 10);
+    for (int j = 0; j < 10; ++j)
+      EXPECT_NEAR(r.lambda(j) / ref(j), 1.0, 1e-9) << dense_max << " " << j;
+    EXPECT_TRUE(r.modes.allFinite());
+  }
+  // Cantilever 10 x 10 x 100 mm steel, Euler-Bernoulli: 1.875^2/(2 pi) sqrt(EI/(rho A L^4)) = 834
+  // Hz; two quadratic elements along the beam are a little stiffer (and shear makes it softer).
+  EXPECT_NEAR(std::sqrt(ref(0)) / (2 * M_PI), 834.0, 0.03 * 834.0);
+}
+
+TEST(SemidefiniteMass, C3D20RBeamCraigBamptonOntoTheTipIsFiniteAndExact) {
+  const Beam b = ReadBeam();
+  const BoundarySelection tip = SelectBoundaryDofs(b.model, *b.k, {"TIP"});
+  ASSERT_EQ(tip.indices.size(), 39u);
+  CraigBamptonOptions opt;
+  opt.num_modes = 100;  // more than the 75 - 15 = 60 finite interior modes
+  CraigBamptonSummary s;
+  const ReducedModel red = ReduceCraigBampton(b.k->real, b.m->real, tip.indices, opt, &s);
+  ASSERT_EQ(s.status, CraigBamptonStatus::kSuccess) << s.BriefReport();
+  EXPECT_EQ(s.modes, 60);
+  EXPECT_NE(s.message.find("clamped to 60"), std::string::npos) << s.message;
+  EXPECT_TRUE(red.stiffness.allFinite() && red.mass.allFinite());
+  EXPECT_LE(s.checks.Max(), 1e-8);
+  // Every finite interior mode kept: the reduced model has the full model's finite spectrum.
+  int null_dim = 0;
+  const Eigen::VectorXd ref =
+      CondensedEigenvalues(Eigen::MatrixXd(b.k->real), Eigen::MatrixXd(b.m->real), &null_dim);
+  const Eigen::VectorXd lr = ReducedEigenvalues(red.stiffness, red.mass);
+  ASSERT_EQ(lr.size(), ref.size());
+  for (int j = 0; j < ref.size(); ++j) EXPECT_NEAR(lr(j) / ref(j), 1.0, 1e-7) << j;
+}
+
+TEST(SemidefiniteMass, C3D20RBeamArpackInteriorModesAndSylvesterCutoff) {
+  const Beam b = ReadBeam();
+  const BoundarySelection tip = SelectBoundaryDofs(b.model, *b.k, {"TIP"});
+  CraigBamptonOptions opt;
+  opt.num_modes = 8;
+  opt.dense_eigen_max_size = 0;  // ARPACK shift-invert with the singular M_ii
+  CraigBamptonSummary sa, sd;
+  ReduceCraigBampton(b.k->real, b.m->real, tip.indices, opt, &sa);
+  ASSERT_EQ(sa.status, CraigBamptonStatus::kSuccess) << sa.BriefReport();
+  EXPECT_FALSE(sa.dense_eigensolver);
+  opt.dense_eigen_max_size = 1000;
+  ReduceCraigBampton(b.k->real, b.m->real, tip.indices, opt, &sd);
+  ASSERT_EQ(sd.status, CraigBamptonStatus::kSuccess) << sd.BriefReport();
+  for (int j = 0; j < 8; ++j) EXPECT_NEAR(sa.frequencies_hz[j] / sd.frequencies_hz[j], 1.0, 1e-9);
+  EXPECT_LE(sa.checks.eigen_residual, 1e-10);
+
+  // Cutoff between interior modes 14 and 15: a first batch of 4, then the Sylvester count at the
+  // cutoff says how many modes to ask for (one ARPACK run more, not a doubling search).
+  CraigBamptonSummary all;
+  opt.num_modes = 60;
+  ReduceCraigBampton(b.k->real, b.m->real, tip.indices, opt, &all);
+  ASSERT_EQ(all.modes, 60);
+  opt.cutoff_hz = 0.5 * (all.frequencies_hz[13] + all.frequencies_hz[14]);
+  opt.num_modes = 4;
+  opt.dense_eigen_max_size = 0;
+  CraigBamptonSummary sc;
+  ReduceCraigBampton(b.k->real, b.m->real, tip.indices, opt, &sc);
+  ASSERT_EQ(sc.status, CraigBamptonStatus::kSuccess) << sc.BriefReport();
+  EXPECT_FALSE(sc.dense_eigensolver);
+  EXPECT_EQ(sc.eigen_batches, 2);
+  ASSERT_EQ(sc.modes, 14);
+  for (int j = 0; j < 14; ++j) EXPECT_NEAR(sc.frequencies_hz[j] / all.frequencies_hz[j], 1.0, 1e-9);
+}
+
+TEST(SemidefiniteMass, NonFiniteInputIsRejectedNotReduced) {
+  Eigen::MatrixXd k, m;
+  Chain(&k, &m);
+  m(3, 3) = std::numeric_limits<double>::quiet_NaN();
+  CraigBamptonSummary s;
+  try {
+    ReduceCraigBampton(k.sparseView(), m.sparseView(), {0}, CraigBamptonOptions{}, &s);
+    FAIL() << "a NaN in M was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("M holds a non-finite value at row 4"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(SolveLowestModes(k.sparseView(), m.sparseView(), ModalSolveOptions{}),
+               std::invalid_argument);
+  EXPECT_THROW(ReducedEigenvalues(k, m), std::invalid_argument);
+  EXPECT_TRUE(std::isnan(NanMax(1.0, std::nan(""))) && std::isnan(NanMax(std::nan(""), 1.0)));
+  EXPECT_EQ(NanMax(1.0, 2.0), 2.0);
 }
 
 }  // namespace
