@@ -99,6 +99,17 @@ FeMatrix ReadTriplets(const std::string& path, const std::string& name,
                " in the .dof file; CalculiX writes every diagonal term: the file is truncated");
     }
   }
+  // CalculiX writes the upper triangle column by column, each column closed by its diagonal, so
+  // its last line is the last DOF's diagonal: with this, a cut at any line end is caught, whatever
+  // the order of the lines before it.
+  const int64_t n = static_cast<int64_t>(dofs.size());
+  if (entries.back().row != n - 1 || entries.back().col != n - 1) {
+    Fail(path, entries.back().line,
+         "the last entry is (" + std::to_string(entries.back().row + 1) + ", " +
+             std::to_string(entries.back().col + 1) + "), expected the diagonal (" +
+             std::to_string(n) + ", " + std::to_string(n) +
+             ") of the last DOF: CalculiX ends every matrix with it (the file is truncated)");
+  }
   fe_text::AssembleEntries(path, entries, true, m, describe, options);
   return m;
 }

@@ -29,9 +29,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::error_code ec;
   std::filesystem::remove(csv, ec);
   if (parts.size() > 1) WriteFile(csv, parts[1]);
+  fricrom::FeModel model;
   try {
-    CheckModel(fricrom::ReadAbaqusMatrix(mtx));
+    model = fricrom::ReadAbaqusMatrix(mtx, Options());
   } catch (const fricrom::FeReadError&) {
+    return 0;
   }
+  CheckModel(model);
+  CheckCoordinatesAgree(model, fricrom::ReadAbaqusMatrix(mtx, Options(true)));
+  // No declared counts: cuts at a line end may read as a smaller matrix (documented).
+  CheckCuts(
+      parts[0], model,
+      [&](std::string_view cut) {
+        WriteFile(mtx, cut);
+        return fricrom::ReadAbaqusMatrix(mtx, Options());
+      },
+      true);
   return 0;
 }

@@ -33,9 +33,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::filesystem::remove(prefix + ext[i], ec);
     if (i < parts.size()) WriteFile(prefix + ext[i], parts[i]);
   }
+  fricrom::FeModel model;
   try {
-    CheckModel(fricrom::ReadCalculix(prefix));
+    model = fricrom::ReadCalculix(prefix, Options());
   } catch (const fricrom::FeReadError&) {
+    return 0;
+  }
+  CheckModel(model);
+  CheckCoordinatesAgree(model, fricrom::ReadCalculix(prefix, Options(true)));
+  // The .sti and .mas files are checked against the .dof file: every cut of either must fail or
+  // read the same matrices.
+  for (size_t i = 1; i < 3 && i < parts.size(); ++i) {
+    CheckCuts(
+        parts[i], model,
+        [&](std::string_view cut) {
+          WriteFile(prefix + ext[i], cut);
+          return fricrom::ReadCalculix(prefix, Options());
+        },
+        false);
+    WriteFile(prefix + ext[i], parts[i]);
   }
   return 0;
 }

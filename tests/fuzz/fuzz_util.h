@@ -1,5 +1,6 @@
 // Shared pieces of the FE-reader libFuzzer targets: a private temp directory, invariants every
-// accepted model must satisfy, and splitting one input into several files at "@@\n".
+// accepted model must satisfy (including the truncation invariant of issue 9: a cut file fails or
+// reads as the same matrices), and splitting one input into several files at "@@\n".
 #pragma once
 
 #include <unistd.h>
@@ -10,6 +11,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +48,82 @@ inline void CheckModel(const fricrom::FeModel& model) {
         Check(std::isfinite(it.value()), "finite values");
         if (m.symmetric) Check(m.real.coeff(it.col(), it.row()) == it.value(), "symmetry");
       }
+    }
+  }
+}
+
+// Reader options of every target: a memory allowance well under libFuzzer's -malloc_limit_mb, so
+// a header declaring 2^31 columns is refused by the reader's memory check, not by libFuzzer.
+inline fricrom::FeReadOptions Options(bool coordinate = false) {
+  fricrom::FeReadOptions o;
+  o.memory_limit_bytes = 256u << 20;
+  o.coordinate = coordinate;
+  return o;
+}
+
+inline bool SameMatrix(const fricrom::FeMatrix& a, const fricrom::FeMatrix& b) {
+  const auto same = [](const Eigen::SparseMatrix<double>& x, const Eigen::SparseMatrix<double>& y) {
+    return x.rows() == y.rows() && x.cols() == y.cols() && x.nonZeros() == y.nonZeros() &&
+           Eigen::SparseMatrix<double>(x - y).norm() == 0.0;
+  };
+  return a.rows == b.rows && a.cols == b.cols && a.is_complex == b.is_complex &&
+         a.row_dofs == b.row_dofs && a.col_dofs == b.col_dofs && same(a.real, b.real) &&
+         (!a.is_complex || same(a.imag, b.imag));
+}
+
+// The coordinate form holds the same entries as the compressed columns (positions where the real
+// or the imaginary part is stored, sorted by column then row).
+inline void CheckCoordinatesAgree(const fricrom::FeModel& csc, const fricrom::FeModel& coo) {
+  Check(csc.matrices.size() == coo.matrices.size(), "coordinate read: matrix count");
+  for (size_t i = 0; i < csc.matrices.size(); ++i) {
+    const fricrom::FeMatrix& a = csc.matrices[i];
+    const fricrom::FeMatrix& b = coo.matrices[i];
+    Check(b.coordinate && b.rows == a.rows && b.cols == a.cols, "coordinate read: shape");
+    const size_t n = b.coo.re.size();
+    Check(b.coo.row.size() == n && b.coo.col.size() == n, "coordinate read: array lengths");
+    for (size_t k = 1; k < n; ++k) {
+      Check(std::make_pair(b.coo.col[k - 1], b.coo.row[k - 1]) <
+                std::make_pair(b.coo.col[k], b.coo.row[k]),
+            "coordinate read: sorted, no repeats");
+    }
+    double diff = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+      diff += std::abs(a.real.coeff(b.coo.row[k], b.coo.col[k]) - b.coo.re[k]);
+    }
+    Check(diff == 0.0 && a.real.nonZeros() <= static_cast<int64_t>(n), "coordinate read: values");
+  }
+}
+
+// Truncation invariant (issue 9): the accepted input `whole` cut at every offset (at most 96,
+// spread over the input, plus every line end for inputs under 4 KB) must fail with FeReadError or
+// read as matrices each identical to the whole read's matrix of the same name (a cut may drop
+// whole matrices). `line_end_ok`: a format without declared counts (Abaqus .mtx, between DMIG
+// columns), where a cut exactly at a line end may read as a smaller matrix (documented as
+// undetectable in principle); such cuts must still read a valid model.
+inline void CheckCuts(std::string_view whole, const fricrom::FeModel& full,
+                      const std::function<fricrom::FeModel(std::string_view)>& read_cut,
+                      bool line_end_ok) {
+  std::map<std::string, const fricrom::FeMatrix*> by_name;
+  for (const fricrom::FeMatrix& m : full.matrices) by_name[m.name] = &m;
+  std::vector<size_t> cuts;
+  const size_t step = whole.size() / 96 + 1;
+  for (size_t off = 0; off < whole.size(); off += step) cuts.push_back(off);
+  for (size_t off = 1; off < whole.size() && whole.size() < 4096; ++off) {
+    if (whole[off - 1] == '\n') cuts.push_back(off);
+  }
+  for (const size_t off : cuts) {
+    fricrom::FeModel cut;
+    try {
+      cut = read_cut(whole.substr(0, off));
+    } catch (const fricrom::FeReadError&) {
+      continue;
+    }
+    CheckModel(cut);
+    if (line_end_ok && off > 0 && whole[off - 1] == '\n') continue;
+    for (const fricrom::FeMatrix& m : cut.matrices) {
+      const auto it = by_name.find(m.name);
+      Check(it != by_name.end() && SameMatrix(m, *it->second),
+            "a truncated file read as a different matrix");
     }
   }
 }

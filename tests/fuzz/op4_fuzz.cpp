@@ -13,6 +13,7 @@
 #include <string>
 
 #include "fricrom/fe_model.h"
+#include "fuzz_util.h"
 
 namespace {
 
@@ -21,8 +22,8 @@ namespace {
 const std::string& ScratchPath() {
   static const std::string path = [] {
     const char* dir = std::getenv("TMPDIR");
-    std::string tmpl = std::string(dir != nullptr && *dir != '\0' ? dir : "/tmp") +
-                       "/fricrom-op4-fuzz-XXXXXX";
+    std::string tmpl =
+        std::string(dir != nullptr && *dir != '\0' ? dir : "/tmp") + "/fricrom-op4-fuzz-XXXXXX";
     const int fd = mkstemp(tmpl.data());
     if (fd < 0) std::abort();
     close(fd);
@@ -40,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
   std::fclose(f);
   try {
-    const fricrom::FeModel model = fricrom::ReadOp4(path);
+    const fricrom::FeModel model = fricrom::ReadOp4(path, fricrom_fuzz::Options());
     // Check the result so that a malformed matrix would be noticed; NaN/Inf must never pass.
     auto check = [](const Eigen::SparseMatrix<double>& a) {
       for (Eigen::Index k = 0; k < a.nonZeros(); ++k) {
@@ -55,6 +56,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         check(m.imag);
       }
     }
+    fricrom_fuzz::CheckCoordinatesAgree(model, fricrom::ReadOp4(path, fricrom_fuzz::Options(true)));
+    // Records (binary) and end-of-matrix records (ASCII): a cut fails or drops whole matrices.
+    fricrom_fuzz::CheckCuts(
+        std::string_view(reinterpret_cast<const char*>(data), size), model,
+        [&](std::string_view cut) {
+          fricrom_fuzz::WriteFile(path, cut);
+          return fricrom::ReadOp4(path, fricrom_fuzz::Options());
+        },
+        false);
   } catch (const fricrom::FeReadError&) {
   }
   std::remove(path.c_str());

@@ -15,9 +15,22 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = fricrom_fuzz::TempDir() + "/input.pch";
   fricrom_fuzz::WriteFile(path, std::string_view(reinterpret_cast<const char*>(data), size));
+  fricrom::FeModel model;
   try {
-    fricrom_fuzz::CheckModel(fricrom::ReadNastranPunch(path));
+    model = fricrom::ReadNastranPunch(path, fricrom_fuzz::Options());
   } catch (const fricrom::FeReadError&) {
+    return 0;
   }
+  fricrom_fuzz::CheckModel(model);
+  fricrom_fuzz::CheckCoordinatesAgree(model,
+                                      fricrom::ReadNastranPunch(path, fricrom_fuzz::Options(true)));
+  // No per-column count in DMIG: a cut at a line end between terms may read (documented).
+  fricrom_fuzz::CheckCuts(
+      std::string_view(reinterpret_cast<const char*>(data), size), model,
+      [&](std::string_view cut) {
+        fricrom_fuzz::WriteFile(path, cut);
+        return fricrom::ReadNastranPunch(path, fricrom_fuzz::Options());
+      },
+      true);
   return 0;
 }

@@ -97,7 +97,8 @@ TEST(Truncation, CalculixMatrixCutsAreAllDetected) {
                     fs::copy_options::overwrite_existing);
     }
     const CutStats s = CutEverywhere(
-        Slurp(base.string() + ext), ext, [&](const std::string&) { return ReadCalculix(dir.Path("c")); },
+        Slurp(base.string() + ext), ext,
+        [&](const std::string&) { return ReadCalculix(dir.Path("c")); },
         [&](const std::string& t) { return dir.Write(std::string("c") + ext, t); });
     EXPECT_EQ(s.errors, s.cuts) << ext;  // every DOF has a diagonal term; .dof against indices
   }
@@ -105,7 +106,8 @@ TEST(Truncation, CalculixMatrixCutsAreAllDetected) {
 
 TEST(Truncation, AbaqusCutsInsideALineAreDetected) {
   testing::ScratchDir dir;
-  for (const std::string& f : {kData + "abaqus/model_STIF1.mtx", kData + "abaqus/model_MASS1.mtx"}) {
+  for (const std::string& f :
+       {kData + "abaqus/model_STIF1.mtx", kData + "abaqus/model_MASS1.mtx"}) {
     const CutStats s = CutEverywhere(
         Slurp(f), f, [](const std::string& p) { return ReadAbaqusMatrix(p); },
         [&](const std::string& t) { return dir.Write("cut.mtx", t); });
@@ -124,10 +126,59 @@ TEST(Truncation, PunchCutsInsideALineOrACardAreDetected) {
         Slurp(f), f, [](const std::string& p) { return ReadNastranPunch(p); },
         [&](const std::string& t) { return dir.Write("cut.pch", t); });
     EXPECT_EQ(s.wrong_inside_line, 0) << f;
-    std::printf("[truncation] %s: %d cuts, %d errors, %d identical (whole matrices dropped), %d "
-                "undetectable line-end cuts\n",
-                f.c_str(), s.cuts, s.errors, s.identical, s.undetectable_line_end);
+    std::printf(
+        "[truncation] %s: %d cuts, %d errors, %d identical (whole matrices dropped), %d "
+        "undetectable line-end cuts\n",
+        f.c_str(), s.cuts, s.errors, s.identical, s.undetectable_line_end);
   }
+}
+
+// OUTPUT4 has record markers (binary) and end-of-matrix records (both encodings): every cut fails
+// or drops whole matrices, never alters one (the file has no matrix count: a cut between two
+// matrices reads the first ones, documented in docs/formats-nastran-op4.md).
+TEST(Truncation, Op4CutsFailOrDropWholeMatrices) {
+  testing::ScratchDir dir;
+  for (const char* f :
+       {"op4/double_dense_ascii.op4", "op4/double_bigmat_ascii_i64.op4", "op4/double_dense_le.op4",
+        "op4/double_bigmat_be.op4", "op4/cdbin.op4", "op4_large/large_dim_bigmat_i64.op4",
+        "op4_large/large_dim_bigmat_ascii.op4"}) {
+    FeReadOptions coordinate;  // the 10^7-column fixtures, cut 2000 times, in coordinate form
+    coordinate.coordinate = std::string(f).find("large") != std::string::npos;
+    const auto read = [&](const std::string& p) {
+      FeModel m = ReadOp4(p, coordinate);
+      for (FeMatrix& x : m.matrices) {
+        if (!x.coordinate) continue;
+        x.real.resize(1, static_cast<Eigen::Index>(x.coo.re.size()));  // entries as one row
+        for (size_t k = 0; k < x.coo.re.size(); ++k) {
+          x.real.insert(0, static_cast<Eigen::Index>(k)) =
+              x.coo.re[k] + 1e-3 * static_cast<double>(x.coo.row[k] + 7 * x.coo.col[k]);
+        }
+      }
+      return m;
+    };
+    const CutStats s = CutEverywhere(Slurp(kData + f), f, read,
+                                     [&](const std::string& t) { return dir.Write("cut.op4", t); });
+    EXPECT_EQ(s.undetectable_line_end + s.wrong_inside_line, 0) << f;
+    EXPECT_GT(s.errors, 0.9 * s.cuts) << f;
+  }
+}
+
+// CalculiX closes every matrix with the last DOF's diagonal: a line-end cut is caught even when
+// the lines before it are not in CalculiX's order (the diagonal check alone would not catch it).
+TEST(Truncation, CalculixLineEndCutOfAReorderedFileIsCaught) {
+  testing::ScratchDir dir;
+  const fs::path base = kData + "calculix/twobricks";
+  for (const char* ext : {".dof", ".mas"}) {
+    fs::copy_file(base.string() + ext, dir.Path(std::string("c") + ext));
+  }
+  std::string sti = Slurp(base.string() + ".sti");
+  // Move the last line (24 24) to the top: every diagonal is still present.
+  const size_t last = sti.rfind('\n', sti.size() - 2) + 1;
+  sti = sti.substr(last) + sti.substr(0, last);
+  const size_t cut = sti.rfind('\n', sti.size() - 2) + 1;  // drop the new last line (23 24)
+  dir.Write("c.sti", sti.substr(0, cut));
+  testing::ExpectError([&] { ReadCalculix(dir.Path("c")); },
+                       {"c.sti:", "expected the diagonal (24, 24) of the last DOF", "truncated"});
 }
 
 TEST(Truncation, RandomBytesAreNotAnEmptyPunch) {
