@@ -20,7 +20,7 @@ void dseupd_c(int rvec, const char* howmny, const int* select, double* d, double
 
 namespace fricrom::reduction_detail {
 
-EigsResult ShiftInvertEigs(SymShiftInvertCholmodOp& op, int nev, double tol, int max_iterations) {
+EigsResult LowestEigs(CholeskyTransformOp& op, int nev, double tol, int max_iterations) {
   EigsResult out;
   const int n = op.rows();
   if (nev < 1 || nev > n - 2) {
@@ -42,22 +42,18 @@ EigsResult ShiftInvertEigs(SymShiftInvertCholmodOp& op, int nev, double tol, int
   int ipntr[14] = {0};
   iparam[0] = 1;  // exact shifts
   iparam[2] = max_iterations;
-  iparam[6] = 3;  // shift-invert, generalised
+  iparam[6] = 1;  // standard problem C y = nu y
   int ido = 0;
   int info = 1;  // use resid as the start vector
-  const char* bmat = "G";
+  const char* bmat = "I";
   const char* which = "LM";
   while (true) {
     dsaupd_c(&ido, bmat, n, which, nev, tol, resid.data(), ncv, v.data(), n, iparam, ipntr,
              workd.data(), workl.data(), lworkl, &info);
     double* x = workd.data() + ipntr[0] - 1;  // ARPACK pointers are 1-based
     double* y = workd.data() + ipntr[1] - 1;
-    if (ido == -1) {
+    if (ido == -1 || ido == 1) {
       op.perform_op(x, y);
-    } else if (ido == 1) {
-      op.perform_op_bx(workd.data() + ipntr[2] - 1, y);
-    } else if (ido == 2) {
-      op.apply_b(x, y);
     } else {
       break;
     }
@@ -89,16 +85,23 @@ EigsResult ShiftInvertEigs(SymShiftInvertCholmodOp& op, int nev, double tol, int
         "ARPACK converged " + std::to_string(nconv) + " of " + std::to_string(nev) + " eigenpairs";
     return out;
   }
+  // d holds nu (dseupd returns the operator's eigenvalues in mode 1): largest nu = lowest lambda.
   std::vector<int> order(static_cast<size_t>(nev));
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return d[a] < d[b]; });
-  out.lambda.resize(nev);
-  out.vectors.resize(n, nev);
-  for (int j = 0; j < nev; ++j) {
-    out.lambda(j) = d[order[j]];
-    out.vectors.col(j) =
-        Eigen::Map<const Eigen::VectorXd>(z.data() + static_cast<size_t>(n) * order[j], n);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return d[a] > d[b]; });
+  const double nu_max = d[order[0]];
+  int finite = 0;
+  while (nu_max > 0 && finite < nev && d[order[finite]] > 1e-13 * nu_max) ++finite;
+  out.infinite = nev - finite;
+  Eigen::MatrixXd y(n, finite);
+  out.lambda.resize(finite);
+  for (int j = 0; j < finite; ++j) {
+    const double nu = d[order[j]];
+    out.lambda(j) = op.shift() + 1.0 / nu;
+    y.col(j) = Eigen::Map<const Eigen::VectorXd>(z.data() + static_cast<size_t>(n) * order[j], n) /
+               std::sqrt(nu);  // phi^T M phi = nu y^T y: unit modal mass
   }
+  out.vectors = op.ToModes(y);
   out.converged = true;
   return out;
 }

@@ -19,6 +19,20 @@ struct CholmodFactor::Impl {
   cholmod_dense* x = nullptr;  // solve output and workspaces, reused between solves
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
+  cholmod_dense* h1 = nullptr;  // outputs of the two-step half solves
+  cholmod_dense* h2 = nullptr;
+
+  // One CHOLMOD solve of system `sys` for a single vector; the result is in *out.
+  const double* Sys(int sys, const double* b, int n, cholmod_dense** out) {
+    cholmod_dense view{};
+    view.nrow = view.d = view.nzmax = static_cast<size_t>(n);
+    view.ncol = 1;
+    view.x = const_cast<double*>(b);  // read only
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    cholmod_solve2(sys, factor, &view, nullptr, out, nullptr, &y, &e, &common);
+    return static_cast<const double*>((*out)->x);
+  }
 
   Impl() {
     cholmod_start(&common);
@@ -35,6 +49,8 @@ struct CholmodFactor::Impl {
     if (x) cholmod_free_dense(&x, &common);
     if (y) cholmod_free_dense(&y, &common);
     if (e) cholmod_free_dense(&e, &common);
+    if (h1) cholmod_free_dense(&h1, &common);
+    if (h2) cholmod_free_dense(&h2, &common);
   }
 };
 
@@ -134,6 +150,20 @@ void CholmodFactor::Solve(const Eigen::Ref<const Eigen::MatrixXd>& b,
   }
 }
 
+void CholmodFactor::ForwardHalf(const double* b, double* y) {
+  Impl& im = *impl_;
+  const double* pb = im.Sys(CHOLMOD_P, b, n_, &im.h1);
+  const double* r = im.Sys(CHOLMOD_L, pb, n_, &im.h2);
+  std::copy(r, r + n_, y);
+}
+
+void CholmodFactor::BackwardHalf(const double* b, double* y) {
+  Impl& im = *impl_;
+  const double* lb = im.Sys(CHOLMOD_Lt, b, n_, &im.h1);
+  const double* r = im.Sys(CHOLMOD_Pt, lb, n_, &im.h2);
+  std::copy(r, r + n_, y);
+}
+
 bool CountEigenvaluesBelow(const Eigen::SparseMatrix<double>& k,
                            const Eigen::SparseMatrix<double>& m, double lambda, int* count,
                            std::string* error) {
@@ -187,28 +217,28 @@ bool CountEigenvaluesBelow(const Eigen::SparseMatrix<double>& k,
   return ok;
 }
 
-bool SymShiftInvertCholmodOp::set_shift(double sigma, std::string* error) {
+bool CholeskyTransformOp::set_shift(double sigma, std::string* error) {
   sigma_ = sigma;
   external_ = nullptr;
   Eigen::SparseMatrix<double> a = k_ - sigma * m_;
   return own_.Factorize(a, error);
 }
 
-void SymShiftInvertCholmodOp::apply_b(const double* x, double* y) const {
-  Eigen::Map<Eigen::VectorXd>(y, rows()).noalias() =
-      m_lower_.selfadjointView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(x, rows());
-}
-
-void SymShiftInvertCholmodOp::perform_op_bx(const double* bx, double* y) {
+void CholeskyTransformOp::perform_op(const double* x, double* y) {
   ++applications_;
   const int n = rows();
-  factor().Solve(Eigen::Map<const Eigen::VectorXd>(bx, n), Eigen::Map<Eigen::VectorXd>(y, n));
+  w_.resize(n);
+  v_.resize(n);
+  factor().BackwardHalf(x, w_.data());
+  v_.noalias() = m_lower_.selfadjointView<Eigen::Lower>() * w_;
+  factor().ForwardHalf(v_.data(), y);
 }
 
-void SymShiftInvertCholmodOp::perform_op(const double* x, double* y) {
-  scratch_.resize(rows());
-  apply_b(x, scratch_.data());
-  perform_op_bx(scratch_.data(), y);
+Eigen::MatrixXd CholeskyTransformOp::ToModes(const Eigen::MatrixXd& y) {
+  Eigen::MatrixXd phi(y.rows(), y.cols());
+  for (Eigen::Index j = 0; j < y.cols(); ++j)
+    factor().BackwardHalf(y.col(j).data(), phi.col(j).data());
+  return phi;
 }
 
 }  // namespace fricrom::reduction_detail

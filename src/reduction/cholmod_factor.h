@@ -27,6 +27,10 @@ class CholmodFactor {
 
   // X = A^-1 B, any number of columns (multi-RHS solve; reuses workspace).
   void Solve(const Eigen::Ref<const Eigen::MatrixXd>& b, Eigen::Ref<Eigen::MatrixXd> x);
+  // The halves of A^-1 = P^T L^-T L^-1 P (CHOLMOD: L L^T = P A P^T), one vector of rows():
+  // y = L^-1 P b and y = P^T L^-T b.
+  void ForwardHalf(const double* b, double* y);
+  void BackwardHalf(const double* b, double* y);
 
  private:
   struct Impl;
@@ -45,13 +49,15 @@ bool CountEigenvaluesBelow(const Eigen::SparseMatrix<double>& k,
                            const Eigen::SparseMatrix<double>& m, double lambda, int* count,
                            std::string* error);
 
-// Spectra-style operator y = (K - sigma M)^-1 M x for generalised shift-invert eigenproblems.
-// References K and M, which must outlive it. perform_op_bx takes B x = M x already computed (as
-// ARPACK mode 3 provides it).
-class SymShiftInvertCholmodOp {
+// The generalized problem K phi = lambda M phi as a standard symmetric one through a Cholesky
+// factor K - sigma M = P^T L L^T P (never a factor of M, which may be only positive
+// semi-definite): C = L^-1 P M P^T L^-T, C y = nu y with nu = 1 / (lambda - sigma), phi = P^T L^-T
+// y. C is symmetric positive semi-definite in the Euclidean inner product, so Lanczos needs no
+// M-inner product (which a singular or slightly indefinite M breaks: ghost Ritz values); massless
+// directions have nu = 0 and come last. References K and M, which must outlive it.
+class CholeskyTransformOp {
  public:
-  SymShiftInvertCholmodOp(const Eigen::SparseMatrix<double>& k,
-                          const Eigen::SparseMatrix<double>& m)
+  CholeskyTransformOp(const Eigen::SparseMatrix<double>& k, const Eigen::SparseMatrix<double>& m)
       : k_(k), m_(m), m_lower_(m.triangularView<Eigen::Lower>()) {}
   int rows() const { return static_cast<int>(k_.rows()); }
   // Factorises K - sigma M; false (with a message) if it is not positive definite.
@@ -62,9 +68,9 @@ class SymShiftInvertCholmodOp {
     sigma_ = 0.0;
   }
   double shift() const { return sigma_; }
-  void perform_op(const double* x, double* y);      // y = (K - sigma M)^-1 M x
-  void perform_op_bx(const double* bx, double* y);  // y = (K - sigma M)^-1 bx
-  void apply_b(const double* x, double* y) const;   // y = M x
+  void perform_op(const double* x, double* y);  // y = C x
+  // phi = P^T L^-T y for each column.
+  Eigen::MatrixXd ToModes(const Eigen::MatrixXd& y);
   int applications() const { return applications_; }
 
  private:
@@ -76,7 +82,7 @@ class SymShiftInvertCholmodOp {
   CholmodFactor* external_ = nullptr;
   double sigma_ = 0.0;
   int applications_ = 0;
-  Eigen::VectorXd scratch_;
+  Eigen::VectorXd w_, v_;
 };
 
 }  // namespace fricrom::reduction_detail

@@ -64,9 +64,9 @@ void DenseAll(const Eigen::SparseMatrix<double>& kii, const Eigen::SparseMatrix<
   Select(o, out);
 }
 
-EigsResult Arpack(SymShiftInvertCholmodOp& op, int nev, const CraigBamptonOptions& o,
+EigsResult Arpack(CholeskyTransformOp& op, int nev, const CraigBamptonOptions& o,
                   InteriorModes* out) {
-  EigsResult r = ShiftInvertEigs(op, nev, o.eigen_tolerance, o.max_eigen_iterations);
+  EigsResult r = LowestEigs(op, nev, o.eigen_tolerance, o.max_eigen_iterations);
   ++out->batches;
   out->restarts += r.restarts;
   out->applications = op.applications();
@@ -108,7 +108,7 @@ InteriorModes ComputeInteriorModes(const Eigen::SparseMatrix<double>& kii,
     }
     return out;
   };
-  SymShiftInvertCholmodOp op(kii, mii);
+  CholeskyTransformOp op(kii, mii);
   std::string err;
   if (o.shift == 0.0) {
     op.use_factor(kfac);
@@ -129,7 +129,10 @@ InteriorModes ComputeInteriorModes(const Eigen::SparseMatrix<double>& kii,
         " (massless DOFs leave fewer finite modes than DOFs: M_ii may have fewer than " +
         std::to_string(first) + " finite modes)");
   }
-  if (by_cutoff && r.lambda(first - 1) <= cut) {
+  // All finite modes found (ARPACK met massless directions), or the highest is above the cutoff:
+  // done. Otherwise count the modes below the cutoff and ask for one more than that.
+  const auto got = r.lambda.size();
+  if (by_cutoff && r.infinite == 0 && got > 0 && r.lambda(got - 1) <= cut) {
     int count = 0;
     const auto tc = Clock::now();
     const bool counted = CountEigenvaluesBelow(kii, mii, cut, &count, &err) ||
@@ -141,11 +144,14 @@ InteriorModes ComputeInteriorModes(const Eigen::SparseMatrix<double>& kii,
       const std::string share = std::to_string(count) + " of the " + std::to_string(ni) +
                                 " interior modes lie below the cutoff " + Num(o.cutoff_hz) +
                                 " Hz (Sylvester count)";
-      if (large(count + 1)) return fallback(share + ", more than shift-invert Lanczos delivers");
+      if (large(count + 1)) return fallback(share + ", more than Lanczos delivers efficiently");
       r = Arpack(op, count + 1, o, &out);
       if (!r.converged) return fallback(share + "; ARPACK: " + r.message);
-      if (r.lambda(count) <= cut) {
-        return fallback(share + ", but ARPACK found more: the count is not reliable here");
+      const auto found = r.lambda.size();
+      if (found < static_cast<Eigen::Index>(count) ||
+          (found > static_cast<Eigen::Index>(count) && r.lambda(count) <= cut)) {
+        return fallback(share + ", but ARPACK found " + std::to_string(found) +
+                        " modes and the count disagrees");
       }
     }
   }

@@ -112,10 +112,10 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
       }
       continue;
     }
-    reduction_detail::SymShiftInvertCholmodOp op(stiffness, mass);
+    reduction_detail::CholeskyTransformOp op(stiffness, mass);
     if (!op.set_shift(sigma, &err)) continue;
     const reduction_detail::EigsResult e =
-        reduction_detail::ShiftInvertEigs(op, count, options.tolerance, options.max_iterations);
+        reduction_detail::LowestEigs(op, count, options.tolerance, options.max_iterations);
     r.restarts = e.restarts;
     if (!e.converged) {
       if (n <= reduction_detail::kDenseFallbackMax &&
@@ -127,9 +127,6 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
     }
     r.lambda = e.lambda;
     r.modes = e.vectors;
-    for (int j = 0; j < r.modes.cols(); ++j) {
-      r.modes.col(j) /= std::sqrt(r.modes.col(j).dot(mass * r.modes.col(j)));
-    }
     return finish(ModalSolveStatus::kSuccess, "");
   }
   return finish(ModalSolveStatus::kFactorizationFailed,
