@@ -19,9 +19,11 @@ struct CraigBamptonOptions {
   // interior DOFs with finite eigenvalues.
   int num_modes = 20;
   // > 0: keep every fixed-interface mode with frequency <= cutoff_hz [Hz] (num_modes is then only
-  // the first batch size of the search); 0: keep num_modes modes.
+  // the first batch size; a Sylvester count at the cutoff then says how many more); 0: keep
+  // num_modes modes.
   double cutoff_hz = 0.0;
-  // Spectral shift sigma [rad^2/s^2] of the shift-invert operator (K_ii - sigma M_ii)^-1 M_ii.
+  // Spectral shift sigma [rad^2/s^2]: the eigen operator is L^-1 P M_ii P^T L^-T with
+  // K_ii - sigma M_ii = P^T L L^T P (eigenvalues 1 / (lambda - sigma); M_ii is never factorised).
   // Must be <= 0 (the lowest modes are wanted). Use sigma < 0 when K_ii is singular (free-free
   // interior, e.g. an empty boundary set), e.g. -(2 pi * 1 Hz)^2 times a model scale.
   double shift = 0.0;
@@ -78,7 +80,7 @@ struct CraigBamptonSummary {
   bool dense_eigensolver = false;      // interior small enough for the dense path
   int eigen_batches = 0;               // ARPACK runs (several when searching up to cutoff_hz)
   int eigen_restarts = 0;              // ARPACK iterations summed over the batches
-  int operator_applications = 0;       // shift-invert solves summed over the batches
+  int operator_applications = 0;       // operator applications (L^-T, M, L^-1) summed
   CraigBamptonChecks checks;
   double factor_s = 0.0;            // CHOLMOD analyse + factorise (all factors)
   double constraint_modes_s = 0.0;  // multi-RHS solve for Psi
@@ -163,7 +165,7 @@ struct ModalSolveResult {
 
 // The `num_modes` lowest eigenpairs of K phi = lambda M phi (K, M symmetric, both triangles; M
 // may be only positive semi-definite: infinite eigenvalues of massless DOFs are never returned, so
-// fewer than num_modes may come back from the dense path). ARPACK shift-invert; the dense solver
+// fewer than num_modes may come back). ARPACK (Cholesky-transformed operator); the dense solver
 // for small models, for more than a quarter of the spectrum, or when ARPACK stops (up to 6000
 // DOFs). Throws std::invalid_argument on wrong sizes, non-finite entries or invalid options.
 ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,

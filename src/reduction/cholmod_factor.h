@@ -1,5 +1,6 @@
 // Private to src/reduction: RAII wrapper of a supernodal CHOLMOD Cholesky factor of a symmetric
-// positive definite sparse matrix, and a Spectra-style shift-invert operator built on it.
+// positive definite sparse matrix, the Cholesky-transformed eigen operator built on it, and a
+// Sylvester inertia count.
 #pragma once
 
 #include <Eigen/Dense>

@@ -1,5 +1,5 @@
 // Craig-Bampton reduction: partition, constraint modes (CHOLMOD multi-RHS solve), fixed-interface
-// modes (ARPACK shift-invert or dense), reduced matrices and their structural checks.
+// modes (ARPACK on the Cholesky-transformed operator, or dense), reduced matrices and their checks.
 
 // GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's SelfAdjointEigenSolver when Eigen
 // is not a system include (CMake's Eigen3::Eigen target is; a hand -I is not).
@@ -261,6 +261,32 @@ double EigenResidual(const Blocks& kb, const Blocks& mb, const Eigen::VectorXd& 
   return worst;
 }
 
+// Row of each DOF in [boundary in the given order | interior ascending]; fills the interior list.
+std::vector<int> NewIndex(const std::vector<int>& boundary, const std::vector<bool>& is_boundary,
+                          std::vector<int>* interior) {
+  std::vector<int> new_index(is_boundary.size());
+  for (size_t j = 0; j < boundary.size(); ++j) new_index[boundary[j]] = static_cast<int>(j);
+  for (int i = 0, c = 0; i < static_cast<int>(is_boundary.size()); ++i) {
+    if (!is_boundary[i]) {
+      new_index[i] = c++;
+      interior->push_back(i);
+    }
+  }
+  return new_index;
+}
+
+// Scales each column to phi^T M_ii phi = 1 (exact per column); returns M_ii Phi, kept for the
+// reduced mass matrix and the residual check.
+Eigen::MatrixXd MassNormalise(const Eigen::SparseMatrix<double>& mii, Eigen::MatrixXd* phi) {
+  Eigen::MatrixXd mii_phi = SparseTimesDense(mii, *phi);
+  for (Eigen::Index j = 0; j < phi->cols(); ++j) {
+    const double scale = 1.0 / std::sqrt(phi->col(j).dot(mii_phi.col(j)));
+    phi->col(j) *= scale;
+    mii_phi.col(j) *= scale;
+  }
+  return mii_phi;
+}
+
 }  // namespace
 
 ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
@@ -292,14 +318,7 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
   };
 
   // ---- 2. Partition [boundary in the given order | interior ascending].
-  std::vector<int> new_index(static_cast<size_t>(n));
-  for (int j = 0; j < nb; ++j) new_index[boundary[j]] = j;
-  for (int i = 0, c = 0; i < n; ++i) {
-    if (!is_boundary[i]) {
-      new_index[i] = c++;
-      out.interior_dofs.push_back(i);
-    }
-  }
+  const std::vector<int> new_index = NewIndex(boundary, is_boundary, &out.interior_dofs);
   const Blocks kb = Partition(stiffness, new_index, is_boundary, nb, ni);
   const Blocks mb = Partition(mass, new_index, is_boundary, nb, ni);
 
@@ -338,12 +357,7 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
     return finish(modes.status, modes.message);
   }
   const int nq = static_cast<int>(modes.lambda.size());
-  Eigen::MatrixXd mii_phi = SparseTimesDense(mb.ii, modes.phi);
-  for (int j = 0; j < nq; ++j) {
-    const double scale = 1.0 / std::sqrt(modes.phi.col(j).dot(mii_phi.col(j)));
-    modes.phi.col(j) *= scale;
-    mii_phi.col(j) *= scale;
-  }
+  const Eigen::MatrixXd mii_phi = MassNormalise(mb.ii, &modes.phi);
   s.eigen_s = Seconds(t0);
   s.modes = nq;
   out.modal_frequencies_hz.resize(nq);

@@ -1,6 +1,7 @@
 // Reference quantities for judging a reduced model: the lowest modes of the full sparse model
-// (ARPACK shift-invert on a CHOLMOD factor), eigenvalues of a dense reduced model, rigid-body
-// modes and mass properties, and the structural checks of a given Craig-Bampton model.
+// (ARPACK on the Cholesky-transformed operator of a CHOLMOD factor), eigenvalues of a dense reduced
+// model, rigid-body modes and mass properties, and the structural checks of a given Craig-Bampton
+// model.
 
 // GCC 12 false -Wmaybe-uninitialized inside Eigen's eigensolvers (see craig_bampton.cpp).
 #if defined(__GNUC__) && !defined(__clang__)
