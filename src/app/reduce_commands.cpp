@@ -363,6 +363,7 @@ struct ReduceCommands::State {
     if (!ref.shift.is_null()) o["reference_shift"] = ref.shift;
     o["static_body_load"] = ref.static_check;
     o["eigen_comparison"] = ref.table;
+    o["reduced_infinite_eigenvalues"] = ref.reduced_infinite;
     const bool any = !ref.table.empty();
     o["max_rel_eig_error"] = any ? json(ref.max_err) : json(nullptr);
     o["max_rel_eig_error_below_quarter_cutoff"] = any ? json(ref.max_err_quarter) : json(nullptr);

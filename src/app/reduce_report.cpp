@@ -188,6 +188,7 @@ ReferenceReport CompareWithFullModel(const ReferenceInput& in,
     rep.failure = std::string("eigenvalues of the reduced model: ") + e.what();
     return rep;
   }
+  rep.reduced_infinite = static_cast<int>(in.reduced->stiffness.rows() - reduced_lambda.size());
   EigenTable(in, reduced_lambda, progress, &rep);
   if (!in.model->nodes.empty()) rep.rigid = RigidBodyCheck(in, reduced_lambda);
   // Interior load: uniform acceleration along (1,1,1)/sqrt(3) on a supported body.

@@ -38,6 +38,8 @@ struct ReferenceReport {
   nlohmann::json static_check = nullptr;  // static body load
   nlohmann::json timings = nlohmann::json::object();
   nlohmann::json shift = nullptr;  // shift of the full-model eigen solve
+  // Eigenvalues of (K_r, M_r) that are infinite (massless boundary DOFs), dropped from the table.
+  int reduced_infinite = 0;
   // Empty when the reference gives its evidence: full-model modes computed, every value finite,
   // each reduced eigenvalue >= the full one (Rayleigh-Ritz) to 1e-6. Otherwise why not.
   std::string failure;

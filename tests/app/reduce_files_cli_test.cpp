@@ -53,6 +53,7 @@ TEST(ReduceFiles, MatrixMarketPairWithAMasslessBoundaryNode) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json j = json::parse(r.output);
   EXPECT_EQ(j.at("status"), "SUCCESS");
+  EXPECT_EQ(j.at("reduced_infinite_eigenvalues"), 1);  // the massless boundary DOF, reported
   const json& table = j.at("eigen_comparison");
   ASSERT_EQ(table.size(), 3u);
   for (const json& row : table) {
