@@ -64,6 +64,24 @@ ChildRun Cli(const std::vector<std::string>& args) {
 
 constexpr long kSmallKb = 100 * 1024;  // far below the 400 MB a per-column index takes
 
+// AddressSanitizer's shadow memory and quarantine of freed blocks make a child's peak RSS
+// say nothing about what the reader allocates (85 MB for an 18 MB run): the sanitizer pass
+// checks the results only; the Release pass checks the memory.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kMeasuresMemory = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kMeasuresMemory = false;
+#else
+constexpr bool kMeasuresMemory = true;
+#endif
+#else
+constexpr bool kMeasuresMemory = true;
+#endif
+
+// The peak a memory assertion compares: the measured one, or 0 where it means nothing.
+long Peak(const ChildRun& r) { return kMeasuresMemory ? r.peak_kb : 0; }
+
 TEST(FeMemory, HugeDeclaredSizeReadsByEntriesInCoordinateForm) {
   testing::ScratchDir dir;
   const std::string mm = dir.Write("a.mm",
@@ -81,7 +99,7 @@ TEST(FeMemory, HugeDeclaredSizeReadsByEntriesInCoordinateForm) {
       return ok ? 0 : 2;
     });
     EXPECT_EQ(r.exit_code, 0) << f;
-    EXPECT_LT(r.peak_kb, kSmallKb) << f;
+    EXPECT_LT(Peak(r), kSmallKb) << f;
   }
 }
 
@@ -91,12 +109,12 @@ TEST(FeMemory, ConvertAndInfoStaySmall) {
   const std::string h5 = dir.Path("o.h5"), mm = dir.Path("o.mtx");
   const ChildRun convert = Cli({"convert", in, "--to", h5});
   EXPECT_EQ(convert.exit_code, 0);
-  EXPECT_LT(convert.peak_kb, kSmallKb);
+  EXPECT_LT(Peak(convert), kSmallKb);
   ASSERT_TRUE(std::filesystem::exists(h5));
   EXPECT_LT(std::filesystem::file_size(h5), 100'000u);
   const ChildRun to_mtx = Cli({"convert", in, "--to", mm});
   EXPECT_EQ(to_mtx.exit_code, 0);
-  EXPECT_LT(to_mtx.peak_kb, kSmallKb);
+  EXPECT_LT(Peak(to_mtx), kSmallKb);
   // Written back with the same two entries (read in coordinate form: a forked child's peak
   // includes the pages of this process).
   FeReadOptions o;
@@ -106,7 +124,7 @@ TEST(FeMemory, ConvertAndInfoStaySmall) {
   EXPECT_EQ(back.matrices.at(0).coo.re, (std::vector<double>{2.0, 1.0}));
   const ChildRun info = Cli({"info", in, "--json"});
   EXPECT_EQ(info.exit_code, 0);
-  EXPECT_LT(info.peak_kb, kSmallKb);
+  EXPECT_LT(Peak(info), kSmallKb);
 }
 
 // OUTPUT4: `convert --matrix MATD21` of a file with two 10^7-column matrices beside it.
@@ -116,7 +134,7 @@ TEST(FeMemory, ConvertOneOp4MatrixByName) {
       std::string(FRICROM_SOURCE_DIR) + "/tests/data/op4_large/large_dim_bigmat.op4";
   const ChildRun r = Cli({"convert", op4, "--matrix", "MATD21", "--to", dir.Path("m.mtx")});
   EXPECT_EQ(r.exit_code, 0);
-  EXPECT_LT(r.peak_kb, 40 * 1024);  // one 10^7-column index alone is 40 MB
+  EXPECT_LT(Peak(r), 40 * 1024);  // one 10^7-column index alone is 40 MB
   const FeModel m = ReadMatrixMarket(dir.Path("m.mtx"));
   EXPECT_EQ(m.matrices.at(0).rows, 5);
   EXPECT_EQ(m.matrices.at(0).real.coeff(4, 6), 57.0);
