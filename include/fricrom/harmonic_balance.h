@@ -62,7 +62,10 @@ class HarmonicBalance {
   virtual ~HarmonicBalance() = default;
 
   virtual int num_unknowns() const = 0;
-  virtual int num_contacts() const = 0;  // one α per contact (direction)
+  virtual int num_contacts() const = 0;  // contacts (directions) of the model
+  // Initial-tangential-force coefficients α the solvers vary: one per contact unless contacts
+  // share α (AlphaGroupedBalance). Every α argument below has this size.
+  virtual int num_alpha() const { return num_contacts(); }
   virtual int harmonics() const = 0;
 
   // Throws std::invalid_argument on wrong sizes or |α_c| > 1.

@@ -40,8 +40,14 @@ struct Model {
   std::vector<HarmonicLoad> loads;
   int response_dof = 0;
   std::vector<int> free_dofs;  // DOFs of the "free system" (blades without dampers)
+  // α group of each contact (contacts sharing one α, e.g. one per FE interface); empty: one α
+  // per contact.
+  std::vector<int> alpha_group;
 
   int num_dofs() const { return static_cast<int>(dof_names.size()); }
+  int num_alpha() const;  // α the solvers vary: groups, or contacts without groups
+  // α per contact from the solvers' α (one per group); throws on a wrong size.
+  Eigen::VectorXd ContactAlpha(const Eigen::VectorXd& alpha) const;
   // Throws std::invalid_argument naming the first inconsistency (sizes, indices, signs).
   void Validate() const;
   int DofIndex(const std::string& name) const;  // −1 if absent

@@ -70,7 +70,7 @@ struct TimeIntegrationResult {
 std::string ToString(TimeIntegrationResult::Status status);
 
 // Integrates the model to a periodic steady state from the static state set by initial_alpha (one
-// value in [−1, 1] per contact). Throws std::invalid_argument on invalid options, an invalid model
+// value in [−1, 1] per α: per contact, or per group of Model::alpha_group). Throws std::invalid_argument on invalid options, an invalid model
 // (Model::Validate), a non positive definite mass matrix or a bad initial_alpha; numerical outcomes
 // are reported in the result's status. No output is printed.
 TimeIntegrationResult IntegrateToSteadyState(const Model& model,

@@ -83,9 +83,9 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
                                                             c.analysis.alpha.size());
   if (!a.alpha.empty()) {
     const std::vector<double> al = ParseList(a.alpha, "--alpha");
-    if (al.size() != c.model.contacts.size()) {
-      throw CLI::ValidationError("--alpha", "expected " + std::to_string(c.model.contacts.size()) +
-                                                " values (one per contact), got " +
+    if (static_cast<int>(al.size()) != c.model.num_alpha()) {
+      throw CLI::ValidationError("--alpha", "expected " + std::to_string(c.model.num_alpha()) +
+                                                " values (one per α: per contact or α group), got " +
                                                 std::to_string(al.size()));
     }
     for (double v : al) {

@@ -115,7 +115,7 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   json j;
   j["freq_hz"] = b.freq_hz;
   j["contact_pairs"] = ContactPairs(model);
-  j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.contacts.size();
+  j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
   j["y_min"] = Num(b.min.amplitude);
   j["y_max"] = Num(b.max.amplitude);
   j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor
@@ -293,7 +293,7 @@ int DesignCommands::State::RunBounds() {
   const Case c = bounds_case.Load();
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
-  const BoundsOptions base = MakeBoundsOptions(system.num_contacts());
+  const BoundsOptions base = MakeBoundsOptions(system.num_alpha());
   std::string error;
   if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
   std::vector<double> freqs;
@@ -308,7 +308,7 @@ int DesignCommands::State::RunBounds() {
   Progress progress{ShowProgress(), "bounds"};
   std::vector<BoundsResult> results;
   for (double f : freqs) {
-    const BoundsOptions bo = WarmSeeds(base, system.num_contacts(), results.empty() ? nullptr : &results.back());
+    const BoundsOptions bo = WarmSeeds(base, system.num_alpha(), results.empty() ? nullptr : &results.back());
     results.push_back(ComputeBounds(system, f, bo));
     progress(static_cast<int>(results.size()), static_cast<int>(freqs.size()));
   }
@@ -327,7 +327,7 @@ int DesignCommands::State::RunBounds() {
   {
     Hdf5Writer h5(h5p);
     CommonAttributes(h5, c, "bounds");
-    const int nc = system.num_contacts();
+    const int nc = system.num_alpha();
     std::vector<double> f, ymin, ymax, emin, emax, rr;
     std::vector<std::string> smin, smax, rmin, rmax;
     Eigen::MatrixXd amin(results.size(), nc), amax(results.size(), nc);
@@ -427,7 +427,7 @@ int DesignCommands::State::RunBounds() {
 int DesignCommands::State::RunSweep() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c0 = sweep_case.Load({{param, from}});  // also checks that the parameter exists
-  const BoundsOptions bo = MakeBoundsOptions(static_cast<int>(c0.model.contacts.size()));
+  const BoundsOptions bo = MakeBoundsOptions(c0.model.num_alpha());
   int solves = 0;
   SweepOptions so;
   so.bounds = bo;
@@ -531,7 +531,7 @@ int DesignCommands::State::RunSweep() {
 int DesignCommands::State::RunNoa() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c0 = noa_case.Load({{param, from}});
-  const BoundsOptions bo = MakeBoundsOptions(static_cast<int>(c0.model.contacts.size()));
+  const BoundsOptions bo = MakeBoundsOptions(c0.model.num_alpha());
   int ref_solves = 0;
   NoaOptions no;
   no.lower = from;
@@ -598,7 +598,7 @@ int DesignCommands::State::RunVerify() {
   const Case c = verify_case.Load();
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
-  const int nc = system.num_contacts();
+  const int nc = system.num_alpha();
   const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(nc));
   if (!b.IsUsable()) {
     std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";

@@ -52,7 +52,7 @@ double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::Vecto
   if (s.objective == BoundsOptions::kAmplitude) {
     if (grad_x != nullptr) {
       *grad_x = factor * sys.AmplitudeSquaredGradient(x);
-      grad_alpha->setZero(sys.num_contacts());
+      grad_alpha->setZero(sys.num_alpha());
     }
     const double y = sys.Amplitude(x);
     return factor * y * y;
@@ -98,7 +98,7 @@ bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::
 class BoundsNlp : public Ipopt::TNLP {
  public:
   explicit BoundsNlp(const HarmonicBalance& system)
-      : nx_(system.num_unknowns()), nc_(system.num_contacts()) {}
+      : nx_(system.num_unknowns()), nc_(system.num_alpha()) {}
 
   // Prepares the next run (the structure never changes, so Ipopt can re-optimise this object).
   void Reset(const RunSetup& setup, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0) {
@@ -707,7 +707,7 @@ std::string BoundsResult::BriefReport() const {
 
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
                             const std::vector<Eigen::VectorXd>& seeds) {
-  const int nc = system.num_contacts();
+  const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
                                 std::to_string(seeds.empty() ? 0 : seeds[0].size()) +

@@ -56,7 +56,7 @@ struct SampleCandidates {
 // Solves at check_samples random α; keeps the sample furthest below y_min and above y_max.
 SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
                              BoundsResult* result) {
-  const int nc = system.num_contacts();
+  const int nc = system.num_alpha();
   const double omega = kTwoPi * freq_hz;
   std::mt19937 rng(options.sample_seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -100,7 +100,7 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz, const 
     throw std::invalid_argument("ComputeBounds: freq_hz must be positive and finite, got " +
                                 std::to_string(freq_hz));
   }
-  const int nc = system.num_contacts();
+  const int nc = system.num_alpha();
   const std::vector<Eigen::VectorXd> seeds =
       options.alpha_seeds.empty() ? DefaultAlphaSeeds(nc) : options.alpha_seeds;
   BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds);

@@ -126,7 +126,7 @@ std::vector<RobustnessPoint> SweepRobustness(const BalanceFactory& factory,
   for (double p : values) {
     const std::unique_ptr<HarmonicBalance> balance = factory(p);
     const HarmonicBalance& system = *balance;
-    const BoundsOptions bo = WithSeeds(options.bounds, system.num_contacts(),
+    const BoundsOptions bo = WithSeeds(options.bounds, system.num_alpha(),
                                        options.warm_start ? previous : nullptr);
     RobustnessPoint pt;
     pt.parameter = p;
@@ -180,7 +180,7 @@ NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
     const std::unique_ptr<HarmonicBalance> balance = factory(p);
     const HarmonicBalance& system = *balance;
     const BoundsOptions bo =
-        WithSeeds(so.bounds, system.num_contacts(), nearest ? &nearest->bounds : nullptr);
+        WithSeeds(so.bounds, system.num_alpha(), nearest ? &nearest->bounds : nullptr);
     RobustnessPoint pt;
     pt.parameter = p;
     if (so.track_peak) {

@@ -1,5 +1,6 @@
 #include "fricrom/balance.h"
 
+#include "fricrom/alpha_groups.h"
 #include "fricrom/condensed.h"
 #include "fricrom/hbm.h"
 
@@ -23,10 +24,15 @@ bool FromString(const std::string& name, BalanceKind* kind) {
 
 std::unique_ptr<HarmonicBalance> MakeBalance(Model model, const HbmOptions& options,
                                              BalanceKind kind) {
+  std::vector<int> groups = model.alpha_group;
+  std::unique_ptr<HarmonicBalance> balance;
   if (kind == BalanceKind::kCondensed) {
-    return std::make_unique<CondensedSystem>(std::move(model), options);
+    balance = std::make_unique<CondensedSystem>(std::move(model), options);
+  } else {
+    balance = std::make_unique<HbmSystem>(std::move(model), options);
   }
-  return std::make_unique<HbmSystem>(std::move(model), options);
+  if (groups.empty()) return balance;
+  return std::make_unique<AlphaGroupedBalance>(std::move(balance), std::move(groups));
 }
 
 }  // namespace fricrom

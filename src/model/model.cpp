@@ -1,8 +1,9 @@
+#include "fricrom/model.h"
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-
-#include "fricrom/model.h"
 
 namespace fricrom {
 
@@ -49,10 +50,37 @@ void Model::Validate() const {
       fail(who + "needs kn >= 0, kt > 0, mu >= 0");
     }
   }
+  if (!alpha_group.empty()) {
+    if (alpha_group.size() != contacts.size()) fail("alpha_group needs one entry per contact");
+    std::vector<int> members(contacts.size(), 0);
+    for (int g : alpha_group) {
+      if (g < 0 || g >= static_cast<int>(contacts.size())) fail("alpha_group index out of range");
+      ++members[g];
+    }
+    for (int g = 0; g < num_alpha(); ++g) {
+      if (members[g] == 0) fail("alpha group " + std::to_string(g) + " has no contact");
+    }
+  }
   for (const HarmonicLoad& l : loads) {
     if (l.harmonic < 0) fail("load with negative harmonic");
     if (l.cos.size() != n || l.sin.size() != n) fail("load vectors must have one entry per DOF");
   }
+}
+
+int Model::num_alpha() const {
+  if (alpha_group.empty()) return static_cast<int>(contacts.size());
+  return *std::max_element(alpha_group.begin(), alpha_group.end()) + 1;
+}
+
+Eigen::VectorXd Model::ContactAlpha(const Eigen::VectorXd& alpha) const {
+  if (alpha.size() != num_alpha()) {
+    throw std::invalid_argument("Model: alpha has " + std::to_string(alpha.size()) +
+                                " entries, expected " + std::to_string(num_alpha()));
+  }
+  if (alpha_group.empty()) return alpha;
+  Eigen::VectorXd out(alpha_group.size());
+  for (size_t c = 0; c < alpha_group.size(); ++c) out[c] = alpha[alpha_group[c]];
+  return out;
 }
 
 Eigen::MatrixXd ContactStickStiffness(const Model& model) {

@@ -232,7 +232,7 @@ std::string ToString(TimeIntegrationResult::Status status) {
 }
 
 TimeIntegrationResult IntegrateToSteadyState(const Model& model,
-                                             const Eigen::VectorXd& initial_alpha,
+                                             const Eigen::VectorXd& alpha,
                                              const TimeIntegrationOptions& options) {
   using Status = TimeIntegrationResult::Status;
   std::string error;
@@ -242,11 +242,12 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model,
   model.Validate();
   const int n = model.num_dofs();
   const int nc = static_cast<int>(model.contacts.size());
-  if (initial_alpha.size() != nc) {
-    throw std::invalid_argument(
-        "IntegrateToSteadyState: initial_alpha needs one value per contact (" + std::to_string(nc) +
-        "), got " + std::to_string(initial_alpha.size()));
+  if (alpha.size() != model.num_alpha()) {
+    throw std::invalid_argument("IntegrateToSteadyState: initial_alpha needs one value per α (" +
+                                std::to_string(model.num_alpha()) + "), got " +
+                                std::to_string(alpha.size()));
   }
+  const Eigen::VectorXd initial_alpha = model.ContactAlpha(alpha);  // per contact
   for (int c = 0; c < nc; ++c) {
     if (!(std::abs(initial_alpha[c]) <= 1.0)) {
       throw std::invalid_argument("IntegrateToSteadyState: initial_alpha[" + std::to_string(c) +
