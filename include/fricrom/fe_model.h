@@ -88,6 +88,14 @@ struct NodeSet {
   std::vector<int64_t> nodes;  // in the order of the deck, without repeats
 };
 
+// Element of an input deck (*ELEMENT, TYPE=...): type upper case as written (C3D10, S4, ...);
+// nodes in the deck's order (C3D10: corners 1-4, then mid-sides of 1-2, 2-3, 3-1, 1-4, 2-4, 3-4).
+struct FeElement {
+  int64_t id = 0;
+  std::string type;
+  std::vector<int64_t> nodes;
+};
+
 struct FeModel {
   std::string source;  // file path(s) read
   std::string format;  // "op4", "dmig", "abaqus", "calculix", "matrix-market", ...
@@ -98,6 +106,7 @@ struct FeModel {
   // the modal SPOINTs); empty when the file has none.
   std::vector<DofId> external_dofs;
   std::vector<NodeSet> node_sets;
+  std::vector<FeElement> elements;  // in the order of the deck
 
   // Case-insensitive lookups; nullptr if absent.
   const FeMatrix* Find(const std::string& name) const;
@@ -114,9 +123,10 @@ FeModel ReadAbaqusMatrix(const std::string& path,
                          const FeReadOptions& options = {});  // *MATRIX GENERATE .mtx
 // prefix.sti, prefix.mas, prefix.dof; plus nodes and node sets of the deck prefix.inp when present.
 FeModel ReadCalculix(const std::string& prefix, const FeReadOptions& options = {});
-// Nodes (*NODE, rectangular coordinates) and node sets (*NSET with or without GENERATE, NSET= of
-// *NODE) of an Abaqus/CalculiX input deck, following *INCLUDE (relative to the including file);
-// other keywords and their data lines are skipped. Appended to `model`.
+// Nodes (*NODE, rectangular coordinates), node sets (*NSET with or without GENERATE, NSET= of
+// *NODE) and elements (*ELEMENT, TYPE=...; a data line ending in a comma continues on the next)
+// of an Abaqus/CalculiX input deck, following *INCLUDE (relative to the including file); other
+// keywords and their data lines are skipped. Appended to `model`.
 void ReadInpNodesAndSets(const std::string& path, FeModel& model);
 // Matrix Market coordinate real general/symmetric; DOF map from `dof_csv` (node,component rows)
 // when given.

@@ -1,5 +1,6 @@
-// Nodes and node sets of an Abaqus/CalculiX input deck (.inp). Only *NODE, *NSET and *INCLUDE are
-// interpreted; every other keyword block is skipped, so a full analysis deck can be given.
+// Nodes, node sets and elements of an Abaqus/CalculiX input deck (.inp). Only *NODE, *NSET,
+// *ELEMENT and *INCLUDE are interpreted; every other keyword block is skipped, so a full analysis
+// deck can be given.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -41,8 +42,9 @@ Keyword ParseKeyword(std::string_view line) {
     if (item.empty()) continue;
     const size_t eq = item.find('=');
     const std::string key = fe_text::Upper(fe_text::Trim(item.substr(0, eq)));
-    const std::string value =
-        eq == std::string_view::npos ? std::string() : std::string(fe_text::Trim(item.substr(eq + 1)));
+    const std::string value = eq == std::string_view::npos
+                                  ? std::string()
+                                  : std::string(fe_text::Trim(item.substr(eq + 1)));
     k.params[key] = value;
   }
   return k;
@@ -58,10 +60,84 @@ struct DeckState {
   int64_t set_entries = 0;
   // The keyword block in force: *INCLUDE splices a file in place, so data lines of an included
   // file continue the block of the including one (and vice versa).
-  enum class Block { kNone, kNode, kNset, kNsetGenerate, kSkip } block = Block::kNone;
+  enum class Block { kNone, kNode, kNset, kNsetGenerate, kElement, kSkip } block = Block::kNone;
   size_t current_set = 0;
   bool node_has_set = false;
+  // *ELEMENT: type, node count it takes (0 = unknown: as given), the element being read (its data
+  // may continue over lines), and where each element was defined, for the errors at the end.
+  std::string element_type;
+  size_t element_nodes = 0;
+  bool element_open = false;
+  size_t element_first_line_nodes = 0;
+  std::unordered_map<int64_t, size_t> element_index;
+  std::vector<std::string> files;
+  std::vector<std::pair<size_t, size_t>> element_origin;  // (files index, line) per element
 };
+
+// Nodes an element type takes; 0 for types this reader does not know (kept as given).
+size_t NodesPerElement(const std::string& type) {
+  static const std::unordered_map<std::string, size_t> kCounts = {
+      {"C3D4", 4},    {"C3D10", 10}, {"C3D8", 8},   {"C3D8R", 8}, {"C3D8I", 8}, {"C3D20", 20},
+      {"C3D20R", 20}, {"C3D6", 6},   {"C3D15", 15}, {"S3", 3},    {"S4", 4},    {"S4R", 4}};
+  const auto it = kCounts.find(type);
+  return it == kCounts.end() ? 0 : it->second;
+}
+
+void StartElementBlock(DeckState& st, const Keyword& k, const std::string& path, size_t line) {
+  const auto type = k.params.find("TYPE");
+  if (type == k.params.end() || type->second.empty()) {
+    Fail(path, line, "*ELEMENT without TYPE=<element type>");
+  }
+  st.element_type = fe_text::Upper(type->second);
+  st.element_nodes = NodesPerElement(st.element_type);
+  st.block = DeckState::Block::kElement;
+}
+
+// One data line under *ELEMENT: "id, n1, n2, ..." or the continuation of the element before
+// (that line ended in a comma, or, Abaqus style, held 15 nodes of a type taking more).
+void ElementLine(DeckState& st, std::string_view t, const std::vector<std::string_view>& tokens,
+                 const std::string& path, size_t line) {
+  std::vector<FeElement>& elements = st.model->elements;
+  size_t first = 0;
+  if (!st.element_open) {
+    if (tokens.empty()) Fail(path, line, "expected 'element id, node ids' under *ELEMENT");
+    FeElement e;
+    e.id = fe_text::RequireInt(tokens[0], path, line, "an element id");
+    if (e.id <= 0) Fail(path, line, "expected an element id > 0, got " + std::to_string(e.id));
+    if (!st.element_index.emplace(e.id, elements.size()).second) {
+      Fail(path, line, "element " + std::to_string(e.id) + " defined twice");
+    }
+    e.type = st.element_type;
+    elements.push_back(std::move(e));
+    if (st.files.empty() || st.files.back() != path) st.files.push_back(path);
+    st.element_origin.emplace_back(st.files.size() - 1, line);
+    st.element_open = true;
+    first = 1;
+  }
+  FeElement& e = elements.back();
+  for (size_t i = first; i < tokens.size(); ++i) {
+    const int64_t n = fe_text::RequireInt(tokens[i], path, line, "a node id of an element");
+    if (n <= 0) Fail(path, line, "expected a node id > 0, got " + std::to_string(n));
+    e.nodes.push_back(n);
+  }
+  if (first == 1) st.element_first_line_nodes = e.nodes.size();
+  const size_t want = st.element_nodes;
+  const bool comma = t.back() == ',';
+  const auto count_error = [&] {
+    Fail(path, line,
+         "element " + std::to_string(e.id) + " of type " + e.type + " has " +
+             std::to_string(e.nodes.size()) + " node ids, expected " + std::to_string(want));
+  };
+  if (want == 0) {
+    st.element_open = comma;
+  } else if (e.nodes.size() > want) {
+    count_error();
+  } else if (e.nodes.size() == want) {
+    st.element_open = false;
+  } else if (!comma && !(first == 1 && e.nodes.size() == 15)) {
+    count_error();
+  }
+}
 
 size_t SetFor(DeckState& st, const std::string& name, const std::string& file, size_t line) {
   const std::string upper = fe_text::Upper(name);
@@ -87,8 +163,9 @@ void AddToSet(DeckState& st, size_t set, int64_t node, const std::string& file, 
 
 void ReadDeck(const std::string& path, DeckState& st, int depth) {
   if (depth > kMaxIncludeDepth) {
-    Fail(path, 0, "*INCLUDE nested deeper than " + std::to_string(kMaxIncludeDepth) +
-                      " levels (a file including itself?)");
+    Fail(path, 0,
+         "*INCLUDE nested deeper than " + std::to_string(kMaxIncludeDepth) +
+             " levels (a file including itself?)");
   }
   const std::string text = fe_text::ReadWholeFile(path, "Abaqus/CalculiX input deck (.inp)");
   using Block = DeckState::Block;
@@ -103,6 +180,11 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
     const std::string_view t = fe_text::Trim(line);
     if (t.empty() || t.rfind("**", 0) == 0) continue;
     if (t.front() == '*') {
+      if (st.element_open) {
+        Fail(path, number,
+             "element " + std::to_string(st.model->elements.back().id) +
+                 " is not complete: its last data line ended in a comma, then a keyword came");
+      }
       const Keyword k = ParseKeyword(t);
       if (k.name != "INCLUDE") block = Block::kSkip;
       if (k.name == "INCLUDE") {
@@ -141,19 +223,24 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
         }
         current_set = SetFor(st, nset->second, path, number);
         block = k.params.count("GENERATE") ? Block::kNsetGenerate : Block::kNset;
+      } else if (k.name == "ELEMENT") {
+        StartElementBlock(st, k, path, number);
       }
       continue;
     }
     if (block == Block::kNone || block == Block::kSkip) continue;
     fe_text::SplitTokens(t, tokens);
-    if (block == Block::kNode) {
+    if (block == Block::kElement) {
+      ElementLine(st, t, tokens, path, number);
+    } else if (block == Block::kNode) {
       if (tokens.size() < 2 || tokens.size() > 4) {
         Fail(path, number,
              "expected 'node id, x[, y[, z]]' under *NODE, got " + fe_text::Printable(t));
       }
       FeNode node;
       node.id = fe_text::RequireInt(tokens[0], path, number, "a node id");
-      if (node.id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(node.id));
+      if (node.id <= 0)
+        Fail(path, number, "expected a node id > 0, got " + std::to_string(node.id));
       for (size_t c = 1; c < tokens.size(); ++c) {
         node.xyz[static_cast<int>(c - 1)] =
             fe_text::RequireReal(tokens[c], false, path, number, "a node coordinate [m]");
@@ -217,7 +304,17 @@ void ReadInpNodesAndSets(const std::string& path, FeModel& model) {
     st.set_members.emplace_back(model.node_sets[i].nodes.begin(), model.node_sets[i].nodes.end());
     st.member_origin.emplace_back(path, 0);
   }
+  for (size_t i = 0; i < model.elements.size(); ++i) {
+    st.element_index.emplace(model.elements[i].id, i);
+  }
+  const size_t first_new_element = model.elements.size();
   ReadDeck(path, st, 0);
+  if (st.element_open) {
+    const auto& [file, line] = st.element_origin.back();
+    Fail(st.files[file], line,
+         "element " + std::to_string(model.elements.back().id) +
+             " is not complete: its last data line ends in a comma at the end of the deck");
+  }
   // Every set member must be a defined node: a set naming an unknown node would silently drop
   // boundary DOFs later. A sets-only deck (no *NODE at all, e.g. `reduce --sets` beside matrices
   // whose DOF maps carry the nodes) is checked by its user against the matrix DOF map instead.
@@ -228,6 +325,17 @@ void ReadInpNodesAndSets(const std::string& path, FeModel& model) {
         Fail(st.member_origin[s].first, st.member_origin[s].second,
              "node set " + model.node_sets[s].name + " lists node " + std::to_string(n) +
                  ", which no *NODE block defines");
+      }
+    }
+  }
+  // Elements likewise (they may come before their nodes in the deck, so checked here).
+  for (size_t i = first_new_element; defines_nodes && i < model.elements.size(); ++i) {
+    for (const int64_t n : model.elements[i].nodes) {
+      if (!st.node_index.count(n)) {
+        const auto& [file, line] = st.element_origin[i - first_new_element];
+        Fail(st.files[file], line,
+             "element " + std::to_string(model.elements[i].id) + " lists node " +
+                 std::to_string(n) + ", which no *NODE block defines");
       }
     }
   }
