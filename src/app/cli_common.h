@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "app/hdf5_writer.h"
 #include "fricrom/balance.h"
 #include "fricrom/case.h"
 #include "fricrom/contact.h"
 #include "fricrom/hbm.h"
+#include "io/hdf5_file.h"
 
 namespace fricrom::app {
 

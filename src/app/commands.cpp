@@ -12,17 +12,17 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "app/atomic_file.h"
 #include "app/cli_common.h"
 #include "app/design_commands.h"
 #include "app/fe_commands.h"
 #include "app/reduce_commands.h"
-#include "app/hdf5_writer.h"
 #include "fricrom/case.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm.h"
 #include "fricrom/linear.h"
+#include "io/atomic_file.h"
+#include "io/hdf5_file.h"
 
 namespace fricrom::app {
 namespace {

@@ -13,9 +13,7 @@
 #include <random>
 #include <sstream>
 
-#include "app/atomic_file.h"
 #include "app/cli_common.h"
-#include "app/hdf5_writer.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
@@ -24,6 +22,8 @@
 #include "fricrom/linear.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"
+#include "io/atomic_file.h"
+#include "io/hdf5_file.h"
 
 namespace fricrom::app {
 namespace {

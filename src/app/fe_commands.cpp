@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_common.h"
-#include "app/hdf5_writer.h"
 #include "fricrom/fe_model.h"
+#include "io/hdf5_file.h"
 
 namespace fricrom::app {
 namespace {

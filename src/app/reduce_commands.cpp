@@ -308,7 +308,7 @@ struct ReduceCommands::State {
     if (have_model) {
       Progress("writing " + to);
       WriteReducedModel(
-          to, {&in.model, &sel, &red, &summary,
+          to, {&in.model, in.m, &sel, &red, &summary,
                boundary_nodes.empty() ? (boundary_dofs.empty() ? boundary : "rows " + boundary_dofs)
                                       : "nodes " + boundary_nodes,
                SplitNames(boundary), cutoff_hz, modal_damping, &out});

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "app/cli_common.h"
-#include "app/hdf5_writer.h"
+#include "fricrom/reduced_body.h"
 #include "fricrom/units.h"
 
 namespace fricrom::app {
@@ -215,75 +215,23 @@ ReferenceReport CompareWithFullModel(const ReferenceInput& in,
 }
 
 void WriteReducedModel(const std::string& path, const ReducedFileInput& in) {
-  const ReducedModel& red = *in.reduced;
-  const BoundarySelection& sel = *in.boundary;
-  const int nb = static_cast<int>(sel.indices.size());
-  const int nq = static_cast<int>(red.stiffness.rows()) - nb;
-  Hdf5Writer h5{std::filesystem::path(path)};
-  h5.Attribute("", "fricrom_version", Version());
-  h5.Attribute("", "schema", "fricrom-reduced-model-1");
-  h5.Attribute("", "method", "Craig-Bampton (fixed-interface modes + constraint modes)");
-  h5.Attribute("", "source", in.model->source);
-  h5.Attribute("", "units",
-               "SI: stiffness N/m (N/rad for rotations), mass kg, frequencies Hz, coordinates m");
-  h5.Attribute("", "status", ToString(in.summary->status));
-  h5.Attribute("", "layout",
-               "reduced/{stiffness,mass[,damping]}: rows/cols [boundary DOFs (dof_node, "
-               "dof_component) | modal coordinates (dof_node 0, dof_component 0)]");
-  h5.Attribute("", "boundary_sets", in.boundary_label);
-  h5.Attribute("", "cutoff_hz", in.cutoff_hz);
-  h5.Attribute("", "num_boundary", static_cast<double>(nb));
-  h5.Attribute("", "num_modes", static_cast<double>(nq));
-  h5.Matrix("reduced/stiffness", red.stiffness);
-  h5.Matrix("reduced/mass", red.mass);
-  if (in.modal_damping >= 0) {
-    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(nb + nq, nb + nq);
-    for (int j = 0; j < nq; ++j) {
-      c(nb + j, nb + j) =
-          2 * in.modal_damping * std::sqrt(std::max(red.stiffness(nb + j, nb + j), 0.0));
-    }
-    h5.Matrix("reduced/damping", c);
-    h5.Attribute("reduced/damping", "modal_damping_ratio", in.modal_damping);
+  // One implementation with the library (ReducedBody, FixedInterfaceModalDamping): the file
+  // ReadReducedBody and ReduceFeBody's cache read.
+  const ReducedBody body =
+      MakeReducedBody(*in.model, *in.mass, *in.boundary, *in.reduced, in.sets, in.modal_damping);
+  ReducedBodyFileInfo info;
+  info.status = ToString(in.summary->status);
+  info.boundary_label = in.boundary_label;
+  info.cutoff_hz = in.cutoff_hz;
+  info.full_dofs = in.summary->num_dofs;
+  info.modal_damping_ratio = in.modal_damping;
+  for (const json& row : in.report->at("eigen_comparison")) {
+    info.full_hz.push_back(row["full_hz"]);
+    info.reduced_hz.push_back(row["reduced_hz"]);
+    info.rel_error.push_back(row["rel_error"]);
   }
-  std::vector<int64_t> dn, dc;
-  for (const DofId& d : sel.dofs) {
-    dn.push_back(d.node);
-    dc.push_back(d.component);
-  }
-  dn.resize(nb + nq, 0);
-  dc.resize(nb + nq, 0);
-  h5.Int64Vector("reduced/dof_node", dn);
-  h5.Int64Vector("reduced/dof_component", dc);
-  h5.Vector("reduced/fixed_interface_hz", red.modal_frequencies_hz);
-  std::vector<int64_t> ids;
-  Eigen::MatrixXd xyz(sel.nodes.size(), 3);
-  for (size_t i = 0; i < sel.nodes.size(); ++i) {
-    ids.push_back(sel.nodes[i]);
-    const FeNode* node = in.model->FindNode(sel.nodes[i]);
-    xyz.row(static_cast<Eigen::Index>(i)) = node ? Eigen::RowVector3d(node->xyz.transpose())
-                                                 : Eigen::RowVector3d::Constant(std::nan(""));
-  }
-  h5.Int64Vector("boundary/node_id", ids);
-  h5.Matrix("boundary/node_xyz", xyz);
-  for (const std::string& name : in.sets) {
-    if (const NodeSet* s = in.model->FindNodeSet(name)) {
-      h5.Int64Vector("boundary/sets/" + s->name, s->nodes);
-    }
-  }
-  const json& table = in.report->at("eigen_comparison");
-  if (!table.empty()) {
-    std::vector<double> fh, rh, re;
-    for (const json& row : table) {
-      fh.push_back(row["full_hz"]);
-      rh.push_back(row["reduced_hz"]);
-      re.push_back(row["rel_error"]);
-    }
-    h5.Vector("checks/full_hz", fh);
-    h5.Vector("checks/reduced_hz", rh);
-    h5.Vector("checks/rel_error", re);
-  }
-  h5.String("checks/json", in.report->at("checks").dump());
-  h5.Commit();
+  info.checks_json = in.report->at("checks").dump();
+  WriteReducedBody(body, path, info);
 }
 
 }  // namespace fricrom::app

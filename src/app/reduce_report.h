@@ -51,6 +51,7 @@ ReferenceReport CompareWithFullModel(const ReferenceInput& in,
 
 struct ReducedFileInput {
   const FeModel* model = nullptr;
+  const FeMatrix* mass = nullptr;  // full mass (unit acceleration loads when it has a DOF map)
   const BoundarySelection* boundary = nullptr;
   const ReducedModel* reduced = nullptr;
   const CraigBamptonSummary* summary = nullptr;

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-namespace fricrom::app {
+namespace fricrom {
 
 // Temporary sibling path of `target` (same directory, so rename is atomic).
 std::filesystem::path TemporarySibling(const std::filesystem::path& target);
@@ -14,4 +14,4 @@ void CommitFile(const std::filesystem::path& tmp, const std::filesystem::path& t
 // Writes text atomically; throws std::runtime_error naming the file on failure.
 void WriteTextAtomically(const std::filesystem::path& target, const std::string& text);
 
-}  // namespace fricrom::app
+}  // namespace fricrom

@@ -1,4 +1,4 @@
-#include "app/atomic_file.h"
+#include "io/atomic_file.h"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace fricrom::app {
+namespace fricrom {
 
 std::filesystem::path TemporarySibling(const std::filesystem::path& target) {
   std::filesystem::path tmp = target;
@@ -36,4 +36,4 @@ void WriteTextAtomically(const std::filesystem::path& target, const std::string&
   CommitFile(tmp, target);
 }
 
-}  // namespace fricrom::app
+}  // namespace fricrom
