@@ -33,8 +33,9 @@ struct AnalysisSettings {
   int samples_per_period = 128;
   double freq_min_hz = 0.0;
   double freq_max_hz = 0.0;
-  std::vector<double> alpha;  // one per contact, default α
-  BalanceKind balance = BalanceKind::kFull;  // full (lumped default) or condensed
+  std::vector<double> alpha;                               // one per contact, default α
+  BalanceKind balance = BalanceKind::kFull;                // full (lumped default) or condensed
+  ReceptanceMethod receptance = ReceptanceMethod::kDense;  // linear part of the condensed balance
 };
 
 struct Case {

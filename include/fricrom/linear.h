@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom {
@@ -22,8 +23,10 @@ ModalResult StickSystemModes(const Model& model);  // all bodies, contacts as kn
 enum class LinearSystemKind { kFree, kStick };
 
 // First-harmonic amplitude [m] of the response DOF of the linear free or full-stick system under
-// the model's harmonic-1 loads, at each frequency [Hz].
+// the model's harmonic-1 loads, at each frequency [Hz]. kDense: one complex LU per frequency
+// (exact); kModal: one eigen-decomposition, damping from diag(Φᵀ C Φ) (HarmonicReceptance).
 std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind kind,
-                                            const std::vector<double>& freqs_hz);
+                                            const std::vector<double>& freqs_hz,
+                                            ReceptanceMethod method = ReceptanceMethod::kDense);
 
 }  // namespace fricrom

@@ -12,8 +12,9 @@ Case CaseArgs::Load(const std::vector<ParameterOverride>& extra) const {
   Case c = LoadCase(path, overrides);
   if (harmonics >= 0) c.analysis.harmonics = harmonics;
   if (samples >= 0) c.analysis.samples_per_period = samples;
-  if (!balance.empty()) FromString(balance, &c.analysis.balance);  // checked by CLI11
-  HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period};
+  if (!balance.empty()) FromString(balance, &c.analysis.balance);           // checked by CLI11
+  if (!receptance.empty()) FromString(receptance, &c.analysis.receptance);  // checked by CLI11
+  HbmOptions ho{c.analysis.harmonics, c.analysis.samples_per_period, c.analysis.receptance};
   std::string error;
   if (!ho.IsValid(&error)) {
     throw CaseError(path + ": " + (harmonics >= 0 ? "--harmonics/--samples" : "analysis") + ": " +
@@ -38,6 +39,11 @@ void CaseArgs::Register(CLI::App* cmd) {
                   "Harmonic balance: full (every DOF) or condensed (contact DOFs; default of FE "
                   "assemblies); default: the case's")
       ->check(CLI::IsMember({"full", "condensed"}));
+  cmd->add_option("--receptance", receptance,
+                  "Linear part of the condensed balance: dense (LU per frequency, exact) or modal "
+                  "(one eigen-decomposition, fast; damping from diag(Phi^T C Phi)); default: the "
+                  "case's")
+      ->check(CLI::IsMember({"dense", "modal"}));
 }
 
 namespace {
@@ -66,8 +72,10 @@ CLI::Validator Positive() { return NumberAbove(0.0, false, "> 0", "POSITIVE"); }
 CLI::Validator NonNegative() { return NumberAbove(0.0, true, ">= 0", "NON-NEGATIVE"); }
 
 std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c) {
-  return MakeBalance(c.model, HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period},
-                     c.analysis.balance);
+  return MakeBalance(
+      c.model,
+      HbmOptions{c.analysis.harmonics, c.analysis.samples_per_period, c.analysis.receptance},
+      c.analysis.balance);
 }
 
 std::vector<double> ParseList(const std::string& text, const std::string& flag) {

@@ -27,7 +27,8 @@ struct CaseArgs {
   std::vector<std::string> sets;
   int harmonics = -1;
   int samples = -1;
-  std::string balance;  // "" = the case's
+  std::string balance;     // "" = the case's
+  std::string receptance;  // "" = the case's
 
   // Loads the case with the overrides; extra overrides (e.g. a swept parameter) come last.
   Case Load(const std::vector<ParameterOverride>& extra = {}) const;

@@ -138,8 +138,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     lf[i] = c.analysis.freq_min_hz +
             (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (a.linear_points - 1);
   }
-  const std::vector<double> free_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf);
-  const std::vector<double> stick_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf);
+  const std::vector<double> free_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
+  const std::vector<double> stick_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
 
   // Files.
   const fs::path out_dir = a.out.empty() ? fs::path("results") / c.name : fs::path(a.out);

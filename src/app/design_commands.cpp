@@ -370,8 +370,8 @@ int DesignCommands::State::RunBounds() {
       lf.push_back(c.analysis.freq_min_hz + (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
     }
     h5.Vector("linear/freq_hz", lf);
-    h5.Vector("linear/free_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf));
-    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf));
+    h5.Vector("linear/free_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
+    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance));
     h5.Strings("histories/contacts", c.contact_names);
     std::vector<double> mu;
     for (const Contact& ct : c.model.contacts) mu.push_back(ct.mu);

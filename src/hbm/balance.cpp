@@ -22,6 +22,18 @@ bool FromString(const std::string& name, BalanceKind* kind) {
   return false;
 }
 
+std::string ToString(ReceptanceMethod method) {
+  return method == ReceptanceMethod::kModal ? "modal" : "dense";
+}
+
+bool FromString(const std::string& name, ReceptanceMethod* method) {
+  if (name == "dense" || name == "modal") {
+    *method = name == "modal" ? ReceptanceMethod::kModal : ReceptanceMethod::kDense;
+    return true;
+  }
+  return false;
+}
+
 std::unique_ptr<HarmonicBalance> MakeBalance(Model model, const HbmOptions& options,
                                              BalanceKind kind) {
   std::vector<int> groups = model.alpha_group;

@@ -58,7 +58,7 @@ CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
   sy_ = nc > 0 ? w_.mean() : std::max(model_.stiffness.diagonal().cwiseAbs().maxCoeff(), 1.0);
   const Eigen::MatrixXd k_stick = model_.stiffness + b_.transpose() * ks_.asDiagonal() * b_;
   receptance_ = std::make_unique<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
-                                                     options_.harmonics);
+                                                     options_.harmonics, options_.receptance);
   aft_ = std::make_unique<AftContactForces>(options_);
   full_ = std::make_unique<HbmSystem>(model_, options_);
   blocks_.resize(nc);
@@ -165,12 +165,11 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
   for (int h = 0; h <= options_.harmonics; ++h) {
     const std::vector<int> js = Coefficients(h);
     const int m = static_cast<int>(js.size());
-    const Eigen::MatrixXd& p = receptance_->P(h);
     const Eigen::MatrixXd& g = receptance_->G(h);
-    const Eigen::VectorXd xt = receptance_->Solve(h, Excitation(h)) - p * Stack(h, ft);
+    const Eigen::VectorXd xt =
+        receptance_->Solve(h, Excitation(h)) - receptance_->TimesP(h, Stack(h, ft));
     const Eigen::VectorXd bx = receptance_->Relative(h, xt);
-    Eigen::MatrixXd pr(m, m * nr);  // response rows of P_h
-    for (int jj = 0; jj < m; ++jj) pr.row(jj) = p.row(jj * n + resp);
+    const Eigen::MatrixXd pr = receptance_->PRows(h, resp);  // response rows of P_h
     Eigen::VectorXd dxt, bd;  // ∂x̃_h/∂ω = −Z̃_h⁻¹ (∂Z̃_h/∂ω) x̃_h and B ∂x̃_h/∂ω
     if (request.omega_derivative) {
       dxt = -receptance_->Solve(h, receptance_->DzDomegaTimes(h, xt));
@@ -225,7 +224,23 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
 double CondensedSystem::ResidualScale() const { return full_->ResidualScale(); }
 
 Eigen::VectorXd CondensedSystem::StickLinearSolution(double omega) const {
-  return Condense(full_->StickLinearSolution(omega));
+  // x̃_h = Z̃_h⁻¹ f_h through the receptance (K + K_stick); the preloaded normal springs push A
+  // and B apart: −Bᵀ p with p the preloads on the normal rows.
+  receptance_->SetFrequency(omega);
+  const int n = model_.num_dofs(), nr = num_relative();
+  Eigen::VectorXd preload = Eigen::VectorXd::Zero(nr);
+  for (int c = 0; c < num_contacts(); ++c) preload[2 * c + 1] = model_.contacts[c].normal_preload;
+  Eigen::VectorXd full(n * (2 * options_.harmonics + 1));
+  for (int h = 0; h <= options_.harmonics; ++h) {
+    Eigen::VectorXd f = Excitation(h);
+    if (h == 0) f -= b_.transpose() * preload;
+    const Eigen::VectorXd xt = receptance_->Solve(h, f);
+    const std::vector<int> js = Coefficients(h);
+    for (size_t jj = 0; jj < js.size(); ++jj) {
+      full.segment(js[jj] * n, n) = xt.segment(static_cast<int>(jj) * n, n);
+    }
+  }
+  return Condense(full);
 }
 
 double CondensedSystem::Amplitude(const Eigen::VectorXd& x) const {
@@ -251,7 +266,7 @@ Eigen::VectorXd CondensedSystem::Recover(const Eigen::VectorXd& x, double omega,
   for (int h = 0; h <= options_.harmonics; ++h) {
     const std::vector<int> js = Coefficients(h);
     const Eigen::VectorXd xt =
-        receptance_->Solve(h, Excitation(h)) - receptance_->P(h) * Stack(h, ft);
+        receptance_->Solve(h, Excitation(h)) - receptance_->TimesP(h, Stack(h, ft));
     for (size_t jj = 0; jj < js.size(); ++jj) {
       full.segment(js[jj] * n, n) = xt.segment(static_cast<int>(jj) * n, n);
     }
@@ -308,7 +323,7 @@ double CondensedSystem::LossFactor(const Eigen::VectorXd& x, double omega,
     const int m = static_cast<int>(js.size());
     Eigen::VectorXd gh(m * n);
     for (int jj = 0; jj < m; ++jj) gh.segment(jj * n, n) = gxf.segment(js[jj] * n, n);
-    const Eigen::RowVectorXd v = -(receptance_->P(h).transpose() * gh).transpose();
+    const Eigen::RowVectorXd v = -receptance_->TransposeTimesP(h, gh).transpose();
     const Eigen::MatrixXd vdf = TimesForceJacobian(h, v);
     for (int l = 0; l < nh; ++l) {
       for (int i = 0; i < nr; ++i) (*grad_x)[Idx(l, i)] += vdf(0, l * nr + i);

@@ -1,43 +1,69 @@
 // The linear part of a condensed harmonic balance: per harmonic h the dynamic stiffness
 //   Z_h(ω) = K − (hω)² M + i hω C   (real block form [[kd, hωC], [−hωC, kd]] on [cos; sin]),
-// factorised once per ω, and its receptance onto the relative-displacement rows B of the
-// contacts, G_h = B_h Z_h⁻¹ B_hᵀ (B_h = B for h = 0, diag(B, B) for h ≥ 1). Dense: suited to
-// lumped and reduced (Craig-Bampton) models of up to a few thousand DOFs.
+// and its receptance onto the relative-displacement rows B of the contacts,
+// G_h = B_h Z_h⁻¹ B_hᵀ (B_h = B for h = 0, diag(B, B) for h ≥ 1).
+// Two routes (ReceptanceMethod): dense LU per harmonic and ω (exact for any C, O(n³) per ω), or
+// modal synthesis from one generalised eigen-decomposition K Φ = M Φ Λ (O(n_r² n) per ω) with the
+// damping taken as the diagonal of Φᵀ C Φ — exact for proportional damping, an approximation
+// whose size DampingCoupling() reports otherwise. The modal route needs M positive definite.
 #pragma once
 
 #include <Eigen/Dense>
 #include <vector>
+
+#include "fricrom/harmonic_balance.h"
 
 namespace fricrom {
 
 class HarmonicReceptance {
  public:
   // k must make Z_0 = k nonsingular (callers regularise free bodies with the stick stiffness).
+  // Throws std::invalid_argument for inconsistent sizes, or for kModal when M is not positive
+  // definite or k not positive definite on M's modes.
   HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eigen::MatrixXd c, Eigen::MatrixXd b,
-                     int harmonics);
+                     int harmonics, ReceptanceMethod method = ReceptanceMethod::kDense);
 
-  // Factorises Z_h(ω), h = 0..H, and forms P_h = Z_h⁻¹ B_hᵀ and G_h = B_h P_h; no-op if ω is
-  // unchanged.
+  // Forms G_h (and, dense, the factorisations and P_h = Z_h⁻¹ B_hᵀ); no-op if ω is unchanged.
   void SetFrequency(double omega);
   double omega() const { return omega_; }
   int num_dofs() const { return static_cast<int>(k_.rows()); }
   int num_relative() const { return static_cast<int>(b_.rows()); }
+  ReceptanceMethod method() const { return method_; }
+  // Modal route: max over mode pairs of |c_jk| / sqrt(c_jj c_kk) in Φᵀ C Φ (0 if proportional).
+  double DampingCoupling() const { return coupling_; }
 
   // Z_h⁻¹ rhs; rhs has n entries for h = 0 and 2n ([cos; sin]) for h ≥ 1.
   Eigen::VectorXd Solve(int h, const Eigen::VectorXd& rhs) const;
+  // P_h v = Z_h⁻¹ B_hᵀ v and P_hᵀ g = B_h Z_h⁻ᵀ g.
+  Eigen::VectorXd TimesP(int h, const Eigen::VectorXd& v) const;
+  Eigen::VectorXd TransposeTimesP(int h, const Eigen::VectorXd& g) const;
+  // The rows of P_h belonging to one DOF (1 × n_r for h = 0, 2 × 2n_r: cos and sin rows).
+  Eigen::MatrixXd PRows(int h, int dof) const;
   // (∂Z_h/∂ω) x for h ≥ 1 (zero for h = 0).
   Eigen::VectorXd DzDomegaTimes(int h, const Eigen::VectorXd& x) const;
-  const Eigen::MatrixXd& P(int h) const { return p_[h]; }
   const Eigen::MatrixXd& G(int h) const { return g_[h]; }
   // B_h x (relative displacements of a harmonic block).
   Eigen::VectorXd Relative(int h, const Eigen::VectorXd& x) const;
 
  private:
+  void SetFrequencyDense(double omega);
+  void SetFrequencyModal(double omega);
+  // C x, or in the modal route the damping it models, M Φ diag(c) Φᵀ M x.
+  Eigen::VectorXd DampingTimes(const Eigen::VectorXd& x) const;
+
   Eigen::MatrixXd k_, m_, c_, b_;
   int harmonics_;
+  ReceptanceMethod method_;
   double omega_ = -1.0;
+  // dense route
   std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> lu_;
-  std::vector<Eigen::MatrixXd> p_, g_;
+  std::vector<Eigen::MatrixXd> p_;
+  // modal route
+  Eigen::MatrixXd phi_, mphi_, w_;  // mass-normalised modes Φ (n × n), M Φ and W = B Φ
+  Eigen::VectorXd lambda_, modal_c_;
+  double coupling_ = 0.0;
+  std::vector<Eigen::VectorXcd> d_;  // Z_h⁻¹ ≅ Φ diag(d_h) Φᵀ in complex form
+  std::vector<Eigen::MatrixXd> g_;
 };
 
 }  // namespace fricrom

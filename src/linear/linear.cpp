@@ -1,9 +1,9 @@
+#include "fricrom/linear.h"
+
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <stdexcept>
-
-#include "fricrom/linear.h"
 
 namespace fricrom {
 namespace {
@@ -51,8 +51,38 @@ ModalResult StickSystemModes(const Model& model) {
   return ComputeModes(model.stiffness + ContactStickStiffness(model), model.mass);
 }
 
+namespace {
+
+// Modal synthesis of one response entry: |Σ_k φ_rk (φ_kᵀ f) / (λ_k − ω² + iω c_k)|.
+std::vector<double> ModalAmplitude(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m,
+                                   const Eigen::MatrixXd& c, const Eigen::VectorXcd& f,
+                                   int response, const std::vector<double>& freqs_hz) {
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(k, m);
+  if (es.info() != Eigen::Success || Eigen::LLT<Eigen::MatrixXd>(m).info() != Eigen::Success) {
+    throw std::invalid_argument(
+        "LinearResponseAmplitude: modal route needs a positive definite mass matrix");
+  }
+  const Eigen::MatrixXd& phi = es.eigenvectors();
+  const Eigen::VectorXd cm = (phi.transpose() * c * phi).diagonal();
+  const Eigen::VectorXcd weight =
+      phi.row(response).transpose().cast<std::complex<double>>().cwiseProduct(phi.transpose() * f);
+  std::vector<double> amp;
+  for (double fhz : freqs_hz) {
+    const double w = 2.0 * std::numbers::pi * fhz;
+    std::complex<double> q = 0.0;
+    for (Eigen::Index i = 0; i < weight.size(); ++i) {
+      q += weight[i] / std::complex<double>(es.eigenvalues()[i] - w * w, w * cm[i]);
+    }
+    amp.push_back(std::abs(q));
+  }
+  return amp;
+}
+
+}  // namespace
+
 std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind kind,
-                                            const std::vector<double>& freqs_hz) {
+                                            const std::vector<double>& freqs_hz,
+                                            ReceptanceMethod method) {
   std::vector<int> dofs = kind == LinearSystemKind::kFree ? model.free_dofs : AllDofs(model);
   Eigen::MatrixXd k = model.stiffness;
   if (kind == LinearSystemKind::kStick) k += ContactStickStiffness(model);
@@ -63,13 +93,15 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
   if (response < 0) {
     throw std::invalid_argument("LinearResponseAmplitude: response DOF not in the system");
   }
-  const Eigen::MatrixXd ks = Sub(k, dofs), ms = Sub(model.mass, dofs), cs = Sub(model.damping, dofs);
+  const Eigen::MatrixXd ks = Sub(k, dofs), ms = Sub(model.mass, dofs),
+                        cs = Sub(model.damping, dofs);
   const int n = static_cast<int>(dofs.size());
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n);
   for (const HarmonicLoad& l : model.loads) {
     if (l.harmonic != 1) continue;
     for (int i = 0; i < n; ++i) f[i] += std::complex<double>(l.cos[dofs[i]], -l.sin[dofs[i]]);
   }
+  if (method == ReceptanceMethod::kModal) return ModalAmplitude(ks, ms, cs, f, response, freqs_hz);
   std::vector<double> amp;
   amp.reserve(freqs_hz.size());
   for (double fhz : freqs_hz) {

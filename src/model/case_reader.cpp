@@ -40,7 +40,7 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
     if (!an.is_table()) rd.Fail("analysis", "expected a table", &an);
     const toml::table& t = *an.as_table();
     const std::string w = "analysis";
-    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance"});
+    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance", "receptance"});
     AnalysisSettings& a = *out;
     a.balance = default_balance;
     const double h = rd.Number(t, w, "harmonics");
@@ -80,6 +80,10 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
       const std::string b = rd.String(t, w, "balance");
       if (!FromString(b, &a.balance)) rd.Fail(w + ".balance", "expected \"full\" or \"condensed\", got '" + b + "'", t.get("balance"));
     }
+    if (t.get("receptance")) {
+      const std::string r = rd.String(t, w, "receptance");
+      if (!FromString(r, &a.receptance)) rd.Fail(w + ".receptance", "expected \"dense\" or \"modal\", got '" + r + "'", t.get("receptance"));
+    }
     toml::array ra;
     for (double v : a.alpha) ra.push_back(v);
     if (resolved) resolved->insert("analysis", toml::table{{"harmonics", a.harmonics},
@@ -87,7 +91,8 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                                             {"freq_min_hz", a.freq_min_hz},
                                             {"freq_max_hz", a.freq_max_hz},
                                             {"alpha", std::move(ra)},
-                                            {"balance", ToString(a.balance)}});
+                                            {"balance", ToString(a.balance)},
+                                            {"receptance", ToString(a.receptance)}});
 }
 
 void FinishCase(const toml::table& resolved, Case* cs) {

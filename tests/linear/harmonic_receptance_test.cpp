@@ -1,0 +1,105 @@
+// The modal route of the condensed balance's receptance against the dense LU route: identical
+// for proportional damping, the approximation measured (DampingCoupling) otherwise.
+#include "linear/harmonic_receptance.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace fricrom {
+namespace {
+
+struct Matrices {
+  Eigen::MatrixXd k, m, b;
+};
+
+// A small SPD system with a few relative-displacement rows (fixed seed, reproducible).
+Matrices MakeSystem(int n, int nr) {
+  std::srand(7);
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd e = Eigen::MatrixXd::Random(n, n);
+  Matrices s;
+  s.k = 1e6 * (a * a.transpose() + n * Eigen::MatrixXd::Identity(n, n));
+  s.m = 0.1 * (e * e.transpose() + n * Eigen::MatrixXd::Identity(n, n));
+  s.b = Eigen::MatrixXd::Random(nr, n);
+  return s;
+}
+
+double RelDiff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).norm() / std::max(b.norm(), 1e-300);
+}
+
+TEST(HarmonicReceptance, ModalEqualsDenseForProportionalDamping) {
+  const Matrices s = MakeSystem(14, 6);
+  const Eigen::MatrixXd c = 3.0 * s.m + 2e-5 * s.k;  // Rayleigh on (K, M): diagonal in the modes
+  HarmonicReceptance dense(s.k, s.m, c, s.b, 3, ReceptanceMethod::kDense);
+  HarmonicReceptance modal(s.k, s.m, c, s.b, 3, ReceptanceMethod::kModal);
+  EXPECT_LT(modal.DampingCoupling(), 1e-9);
+  for (double omega : {50.0, 1234.5, 4000.0}) {
+    dense.SetFrequency(omega);
+    modal.SetFrequency(omega);
+    for (int h = 0; h <= 3; ++h) {
+      const int rows = h == 0 ? 14 : 28, rel = h == 0 ? 6 : 12;
+      const Eigen::VectorXd f = Eigen::VectorXd::Random(rows), v = Eigen::VectorXd::Random(rel);
+      EXPECT_LT(RelDiff(modal.G(h), dense.G(h)), 1e-10) << "h " << h << " omega " << omega;
+      EXPECT_LT(RelDiff(modal.Solve(h, f), dense.Solve(h, f)), 1e-10);
+      EXPECT_LT(RelDiff(modal.TimesP(h, v), dense.TimesP(h, v)), 1e-10);
+      EXPECT_LT(RelDiff(modal.TransposeTimesP(h, f), dense.TransposeTimesP(h, f)), 1e-10);
+      EXPECT_LT(RelDiff(modal.PRows(h, 5), dense.PRows(h, 5)), 1e-10);
+      EXPECT_LT(RelDiff(modal.DzDomegaTimes(h, f) + Eigen::VectorXd::Ones(rows),
+                        dense.DzDomegaTimes(h, f) + Eigen::VectorXd::Ones(rows)),
+                1e-10);
+    }
+  }
+}
+
+TEST(HarmonicReceptance, TransposeIsTheAdjointOfP) {
+  // gᵀ (P v) = (Pᵀ g)ᵀ v in both routes, with non-proportional damping.
+  const Matrices s = MakeSystem(10, 4);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(10, 10);
+  c(0, 0) = 50.0;
+  c(3, 3) = 20.0;
+  for (ReceptanceMethod m : {ReceptanceMethod::kDense, ReceptanceMethod::kModal}) {
+    HarmonicReceptance r(s.k, s.m, c, s.b, 2, m);
+    r.SetFrequency(900.0);
+    for (int h = 0; h <= 2; ++h) {
+      const Eigen::VectorXd g = Eigen::VectorXd::Random(h == 0 ? 10 : 20);
+      const Eigen::VectorXd v = Eigen::VectorXd::Random(h == 0 ? 4 : 8);
+      const double lhs = g.dot(r.TimesP(h, v)), rhs = r.TransposeTimesP(h, g).dot(v);
+      EXPECT_NEAR(lhs, rhs, 1e-12 * std::abs(lhs) + 1e-300);
+    }
+  }
+}
+
+TEST(HarmonicReceptance, NonProportionalDampingIsReportedAndStaysClose) {
+  const Matrices s = MakeSystem(12, 5);
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(12, 12);
+  c(0, 0) = 80.0;  // one grounded dashpot: couples the modes
+  HarmonicReceptance dense(s.k, s.m, c, s.b, 1, ReceptanceMethod::kDense);
+  HarmonicReceptance modal(s.k, s.m, c, s.b, 1, ReceptanceMethod::kModal);
+  EXPECT_GT(modal.DampingCoupling(), 0.01);
+  // Away from resonances the light damping hardly matters: the two routes agree closely.
+  dense.SetFrequency(10.0);
+  modal.SetFrequency(10.0);
+  EXPECT_LT(RelDiff(modal.G(1), dense.G(1)), 1e-3);
+  EXPECT_LT(RelDiff(modal.G(0), dense.G(0)), 1e-12);  // static: damping plays no part
+}
+
+TEST(HarmonicReceptance, ModalRouteRefusesASingularMassWithAClearMessage) {
+  Matrices s = MakeSystem(8, 3);
+  s.m.row(7).setZero();
+  s.m.col(7).setZero();  // a massless DOF
+  const Eigen::MatrixXd c = Eigen::MatrixXd::Zero(8, 8);
+  try {
+    HarmonicReceptance r(s.k, s.m, c, s.b, 1, ReceptanceMethod::kModal);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("not positive definite"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dense"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(HarmonicReceptance(s.k, s.m, c, s.b, 1, ReceptanceMethod::kDense));
+}
+
+}  // namespace
+}  // namespace fricrom
