@@ -278,6 +278,18 @@ BodyMatrices ReadOneBody(const Reader& rd, const toml::table& t, const std::stri
   }
   b->place = ReadPlacement(rd, t, where);
   Rotate(rd, where, b->place.rotation, &m);
+  if (t.get("ground_stiffness")) {
+    // Weak springs to ground on every translational boundary DOF (isotropic, so placement does
+    // not matter): they fix the static position of a body whose static tangential contact
+    // forces are prescribed by α (the paper's k_D), e.g. a free damper.
+    const double kg = rd.NonNegative(t, where, "ground_stiffness");
+    for (size_t d = 0; d < m.dofs.size(); ++d) {
+      if (m.dofs[d].node >= 0 && m.dofs[d].component >= 1 && m.dofs[d].component <= 3) {
+        m.k(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(d)) += kg;
+      }
+    }
+    rb->insert("ground_stiffness", kg);
+  }
   return m;
 }
 
@@ -295,7 +307,7 @@ std::vector<AssemblyBody> ReadAssemblyBodies(const Reader& rd, const toml::table
     const toml::table& t = TableAt(rd, arr, i, where);
     rd.CheckKeys(t, where,
                  {"name", "role", "stiffness", "mass", "damping", "dof_map", "reduced", "fe",
-                  "mesh", "translate", "rotate", "rayleigh"});
+                  "mesh", "translate", "rotate", "rayleigh", "ground_stiffness"});
     AssemblyBody b;
     b.name = rd.String(t, where, "name");
     for (const AssemblyBody& o : bodies) {

@@ -102,9 +102,10 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
   for (size_t i = 0; i < arr.size(); ++i) {
     const std::string where = "interfaces[" + std::to_string(i) + "]";
     const toml::table& t = TableAt(rd, arr, i, where);
-    rd.CheckKeys(t, where,
-                 {"name", "a", "b", "tolerance", "kn", "kt", "kn_per_area", "kt_per_area", "mu",
-                  "normal", "slip_direction", "alpha", "area_scheme", "normal_preload"});
+    rd.CheckKeys(
+        t, where,
+        {"name", "a", "b", "tolerance", "kn", "kt", "kn_per_area", "kt_per_area", "mu", "normal",
+         "slip_direction", "tangential_directions", "alpha", "area_scheme", "normal_preload"});
     const std::string name = rd.String(t, where, "name");
     const Side a = SideOf(rd, t, where, "a", bodies), b = SideOf(rd, t, where, "b", bodies);
     const double tol = rd.NumberOr(t, where, "tolerance", 1e-6);
@@ -163,6 +164,13 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
                                                          : Eigen::Vector3d::UnitX();
     const double mu = rd.NonNegative(t, where, "mu");
     const double preload = rd.NonNegative(t, where, "normal_preload", 0.0);
+    const double nd = rd.NumberOr(t, where, "tangential_directions", 1.0);
+    if (nd != 1.0 && nd != 2.0) {
+      rd.Fail(where + ".tangential_directions",
+              "expected 1 (the slip direction) or 2 (slip direction and normal x slip direction)",
+              t.get("tangential_directions"));
+    }
+    const int directions = static_cast<int>(nd);
     const std::string alpha = rd.StringOr(t, where, "alpha", "pair");
     if (alpha != "pair" && alpha != "interface") {
       rd.Fail(where + ".alpha", "expected \"pair\" (one α per node pair) or \"interface\"",
@@ -190,18 +198,39 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
         c.dofs_a.push_back(a.body->Dof(p.node_a, d));
         c.dofs_b.push_back(b.body->Dof(p.node_b, d));
       }
+      if (directions == 2) {
+        // Two 1D laws sharing the pair's normal gap, each limited by μ × the pair's whole normal
+        // load: halves of kn and the preload with 2μ give both (normal force summed, T_i ≤ μN).
+        Contact c2 = c;
+        c.name += ".t1";
+        c2.name += ".t2";
+        c2.tangent = frame.tangent2;
+        for (Contact* d : {&c, &c2}) {
+          d->kn *= 0.5;
+          d->normal_preload *= 0.5;
+          d->mu *= 2.0;
+        }
+        cs->contact_names.push_back(c.name);
+        cs->model.contacts.push_back(std::move(c));
+        c = std::move(c2);
+      }
       cs->contact_names.push_back(c.name);
       cs->model.contacts.push_back(std::move(c));
     }
-    const int shared = groups.empty() ? 0 : groups.back() + 1;
+    // α groups: per contact, or per interface and direction.
+    const int next = groups.empty() ? 0 : groups.back() + 1;
     for (size_t p = 0; p < pairs.size(); ++p) {
-      groups.push_back(alpha == "interface" ? shared : (groups.empty() ? 0 : groups.back() + 1));
+      for (int d = 0; d < directions; ++d) {
+        groups.push_back(alpha == "interface" ? next + d
+                                              : next + static_cast<int>(p) * directions + d);
+      }
     }
     grouped = grouped || (alpha == "interface" && pairs.size() > 1);
     toml::table r{{"name", name},
                   {"pairs", static_cast<int64_t>(pairs.size())},
                   {"alpha", alpha},
                   {"mu", mu},
+                  {"tangential_directions", static_cast<int64_t>(directions)},
                   {"first_contact", static_cast<int64_t>(first)}};
     if (faces_a || faces_b) r.insert("face_area_m2", area_sum);
     resolved->push_back(std::move(r));

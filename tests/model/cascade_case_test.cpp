@@ -1,0 +1,154 @@
+// The coarse FE cascade (meshes/cascade3/coarse.toml): three reduced blade sectors and two wedge
+// dampers joined by node-to-node interfaces. Checked against the mesh geometry
+// (meshes/README.md), the damper's mass and the interface rules (docs/case-files.md).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "fricrom/balance.h"
+#include "fricrom/case.h"
+#include "fricrom/frf.h"
+
+namespace fricrom {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kDir = fs::path(FRICROM_SOURCE_DIR) / "meshes/cascade3";
+const double kFaceArea = 1.0606601717798e-4;  // contact strip 0.03 x 0.0025*sqrt(2) [m^2]
+const double kDamperMass = 9.2865e-3;         // [kg], meshes/README.md
+
+std::string Read(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The case with one text replacement, written next to the original (relative paths hold).
+class CascadeVariant : public ::testing::Test {
+ protected:
+  Case Load(const std::string& from, const std::string& to, size_t count = 1) {
+    std::string text = Read(kDir / "coarse.toml");
+    size_t at = 0;
+    for (size_t i = 0; i < count; ++i, at += to.size()) {
+      at = text.find(from, at);
+      if (at == std::string::npos) throw std::runtime_error("variant: '" + from + "' not found");
+      text.replace(at, from.size(), to);
+    }
+    path_ = kDir / ("test-variant-" + std::to_string(getpid()) + ".toml");
+    std::ofstream(path_) << text;
+    return LoadCase(path_.string());
+  }
+  void TearDown() override {
+    if (!path_.empty()) fs::remove(path_);
+  }
+  fs::path path_;
+};
+
+TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
+  const Case c = LoadCase((kDir / "coarse.toml").string());
+  ASSERT_EQ(c.model.contacts.size(), 216u);  // 4 faces x 27 pairs x 2 tangential directions
+  EXPECT_EQ(c.model.num_alpha(), 216);       // one α per pair and direction
+  const double k_area = c.parameters.at("k_area"), mu = c.parameters.at("mu");
+  for (const std::string face : {"d1L.", "d1R.", "d2L.", "d2R."}) {
+    double kn = 0, kt1 = 0;
+    int n = 0;
+    for (const Contact& ct : c.model.contacts) {
+      if (ct.name.rfind(face, 0) != 0) continue;
+      ++n;
+      kn += ct.kn;  // halves of the pair's kn on the two directions
+      if (ct.name.ends_with(".t1")) kt1 += ct.kt;
+      EXPECT_NEAR(ct.mu, 2.0 * mu, 1e-15) << ct.name;  // T_i <= (2 mu)(N/2) = mu N
+      // Damper faces (A side): CONTACT_LEFT normal (0,-1,1)/sqrt2, CONTACT_RIGHT (0,1,1)/sqrt2.
+      const double sy = face[2] == 'L' ? -1.0 : 1.0;
+      EXPECT_NEAR(ct.normal[0], 0.0, 1e-9) << ct.name;
+      EXPECT_NEAR(ct.normal[1], sy / std::numbers::sqrt2, 1e-9) << ct.name;
+      EXPECT_NEAR(ct.normal[2], 1.0 / std::numbers::sqrt2, 1e-9) << ct.name;
+      EXPECT_NEAR(ct.tangent.dot(ct.normal), 0.0, 1e-12) << ct.name;
+      const double axial = ct.name.ends_with(".t2") ? 1.0 : 0.0;  // t2 = n x t1 = +-x
+      EXPECT_NEAR(std::abs(ct.tangent[0]), axial, 1e-9) << ct.name;
+    }
+    EXPECT_EQ(n, 54) << face;
+    EXPECT_NEAR(kn, k_area * kFaceArea, 1e-9 * k_area * kFaceArea) << face;
+    EXPECT_NEAR(kt1, k_area * kFaceArea, 1e-9 * k_area * kFaceArea) << face;
+  }
+}
+
+TEST(Cascade, CentrifugalLoadOnEachDamperIsItsMassTimesTheAcceleration) {
+  const Case c = LoadCase((kDir / "coarse.toml").string(), {{"gamma", 0.2}});
+  const double omega = 2.0 * std::numbers::pi * c.parameters.at("rpm") / 60.0;
+  const double a = omega * omega * c.parameters.at("radius");
+  // A rigid radial (z) translation of a CB body moves its physical z DOFs by 1 and its modal DOFs
+  // by 0: the static load's work on it is the resultant m a.
+  Eigen::VectorXd f0 = Eigen::VectorXd::Zero(c.model.num_dofs());
+  for (const HarmonicLoad& l : c.model.loads) {
+    if (l.harmonic == 0) f0 += l.cos;
+  }
+  for (int d = 1; d <= 2; ++d) {
+    double fz = 0, fx = 0;
+    for (int i = 0; i < c.model.num_dofs(); ++i) {
+      const std::string& name = c.model.dof_names[i];
+      if (name.rfind("damper" + std::to_string(d) + ".", 0) != 0) continue;
+      if (name.ends_with(".z")) fz += f0[i];
+      if (name.ends_with(".x")) fx += f0[i];
+    }
+    const double expected = kDamperMass * a * (d == 1 ? 0.8 : 1.2);
+    EXPECT_NEAR(fz, expected, 1e-6 * expected) << "damper" << d;
+    EXPECT_NEAR(fx, 0.0, 1e-9 * expected) << "damper" << d;
+  }
+}
+
+TEST_F(CascadeVariant, OneAlphaPerInterfaceAndDirection) {
+  const Case c = Load("mu = \"mu\"\n", "mu = \"mu\"\nalpha = \"interface\"\n", 4);
+  EXPECT_EQ(c.model.contacts.size(), 216u);
+  EXPECT_EQ(c.model.num_alpha(), 8);
+}
+
+TEST_F(CascadeVariant, BadTangentialDirectionsNamesTheKey) {
+  try {
+    Load("tangential_directions = 2", "tangential_directions = 3");
+    FAIL() << "expected a CaseError";
+  } catch (const CaseError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("interfaces[0].tangential_directions"), std::string::npos) << m;
+    EXPECT_NE(m.find(path_.string()), std::string::npos) << m;
+  }
+}
+
+TEST_F(CascadeVariant, UnpairableFacesListTheUnmatchedNodes) {
+  // Damper 2 left in sector 1's position: its faces no longer meet blades 2 and 3.
+  try {
+    Load("damper_mesh.inp\"\ntranslate = [0.0, \"pitch\", 0.0]", "damper_mesh.inp\"");
+    FAIL() << "expected a CaseError";
+  } catch (const CaseError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("interfaces[2]"), std::string::npos) << m;
+    EXPECT_NE(m.find("no partner within the tolerance"), std::string::npos) << m;
+  }
+}
+
+TEST(Cascade, ConvergesAtOneFrequencyInFullStickWithModalAndDenseReceptance) {
+  const Case c = LoadCase((kDir / "coarse.toml").string());
+  EXPECT_EQ(c.analysis.receptance, ReceptanceMethod::kModal);
+  double amp[2] = {0, 0};
+  for (ReceptanceMethod m : {ReceptanceMethod::kModal, ReceptanceMethod::kDense}) {
+    const auto b = MakeBalance(c.model, HbmOptions{1, 64, m}, BalanceKind::kCondensed);
+    const Eigen::VectorXd alpha = Eigen::VectorXd::Zero(b->num_alpha());
+    const std::vector<FrfPoint> r = SolveAtFrequencies(*b, alpha, {1000.0}, FrfOptions{});
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].status, SolverStatus::kConverged) << r[0].message;
+    amp[m == ReceptanceMethod::kModal ? 0 : 1] = r[0].amplitude;
+  }
+  EXPECT_GT(amp[0], 0.0);
+  // Modal damping only on the blades' fixed-interface modes: close to proportional here.
+  EXPECT_NEAR(amp[0], amp[1], 1e-3 * amp[1]);
+}
+
+}  // namespace
+}  // namespace fricrom
