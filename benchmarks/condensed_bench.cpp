@@ -52,6 +52,24 @@ BENCHMARK(BM_CondensedSolve)
     ->Args({50, 1})->Args({100, 1})->Args({200, 1})->Args({100, 3})
     ->Unit(benchmark::kMillisecond)->Iterations(2);
 
+// The same cold solve with the modal receptance (one eigen-decomposition inside).
+void BM_CondensedSolveModal(benchmark::State& state) {
+  const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(pairs, -0.9, 0.9);
+  const HbmOptions options{h, 64, ReceptanceMethod::kModal};
+  int converged = 0;
+  for (auto _ : state) {
+    CondensedSystem fresh(testing::ContactStrip(pairs), options);
+    const FrfPoint p = SolveAtFrequency(fresh, alpha, kFreq, Eigen::VectorXd(), FrfOptions{});
+    converged = p.status == SolverStatus::kConverged;
+    benchmark::DoNotOptimize(p.amplitude);
+  }
+  state.counters["converged"] = converged;
+}
+BENCHMARK(BM_CondensedSolveModal)
+    ->Args({50, 1})->Args({100, 1})->Args({200, 1})->Args({400, 1})->Args({100, 3})
+    ->Unit(benchmark::kMillisecond)->Iterations(2);
+
 // The same solve through the full (uncondensed) balance, for the ratio.
 void BM_FullSolve(benchmark::State& state) {
   const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
