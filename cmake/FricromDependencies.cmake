@@ -60,5 +60,8 @@ endif()
 
 set(FRICROM_WARNINGS -Wall -Wextra -Wpedantic)
 find_package(Threads REQUIRED)  # reading large FE files on two threads
-pkg_check_modules(BLAS QUIET IMPORTED_TARGET blas)  # dgemm for the reduction's tall products
+# dgemm, dgetrf, dsygvd for large dense work (src/linear/dense_lapack.cpp); OpenBLAS at run time
+pkg_check_modules(BLAS QUIET IMPORTED_TARGET blas)
 fricrom_require(BLAS_FOUND "BLAS (blas.pc)" libblas-dev)
+pkg_check_modules(LAPACK QUIET IMPORTED_TARGET lapack)
+fricrom_require(LAPACK_FOUND "LAPACK (lapack.pc)" liblapack-dev)

@@ -7,7 +7,8 @@ PACKAGES=(
   build-essential cmake pkg-config git bc
   libeigen3-dev            # dense/sparse linear algebra (public headers)
   libsuitesparse-dev       # CHOLMOD (Craig-Bampton factorisation)
-  libblas-dev              # dgemm for the reduction (blas.pc; OpenBLAS provides it at run time)
+  libblas-dev              # dgemm for large dense products (blas.pc; OpenBLAS at run time)
+  liblapack-dev            # dgetrf/dsygvd for large dense LU and eigenproblems (lapack.pc)
   libarpack2-dev           # arpack-ng (shift-invert modes)
   libfftw3-dev             # AFT transforms
   coinor-libipopt-dev      # bounds NLP

@@ -15,10 +15,11 @@
 #include <utility>
 #include <vector>
 
-#include "optimise_bounds.h"
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
 #include "fricrom/units.h"
+#include "linear/dense_lapack.h"
+#include "optimise_bounds.h"
 
 namespace fricrom {
 namespace {
@@ -78,9 +79,9 @@ bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::
   s.system->Evaluate(x0, s.omega, alpha0, req, &e);
   Eigen::VectorXd gx, ga;
   Objective(s, x0, alpha0, e, &gx, &ga);
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
+  const dense::Lu lu(e.jacobian.transpose());
   if (!(lu.rcond() > 1e-12)) return false;
-  const Eigen::VectorXd lambda = lu.solve(gx);
+  const Eigen::VectorXd lambda = lu.Solve(gx);
   const Eigen::VectorXd g = ga - e.alpha_jacobian.transpose() * lambda;
   if (!g.allFinite()) return false;
   for (int c = 0; c < g.size(); ++c) {
@@ -362,8 +363,8 @@ BoundStatus MapStatus(Ipopt::SolverReturn r) {
   }
 }
 
-std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x, double omega,
-                                   const Eigen::VectorXd& alpha) {
+std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
+                                   double omega, const Eigen::VectorXd& alpha) {
   std::vector<ContactRegime> out;
   for (const ContactHistory& h : sys.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
   return out;
@@ -486,6 +487,30 @@ BoundSolution Run(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<BoundsNlp>
   return out;
 }
 
+// Chord iterations x ← x − J₀⁻¹ R(x) with the factorised transpose J₀ᵀ of the last accepted
+// point. Where no contact changes state between the two α the balance is linear in x (stick) or
+// nearly so, and one or two steps converge without a new factorisation. On success x solves
+// R = 0 to Newton's tolerance; on failure x is left as the best iterate (a warm start).
+bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const NewtonOptions& o,
+                Eigen::VectorXd* x) {
+  constexpr int kChordSteps = 4;
+  const double scale = at.ResidualScale();
+  Eigen::VectorXd r, x_trial, r_trial;
+  at.Evaluate(*x, &r, nullptr);
+  double norm = r.norm() / scale;
+  for (int k = 0; k < kChordSteps && std::isfinite(norm); ++k) {
+    if (norm <= o.residual_tolerance) return true;
+    x_trial = *x - lu_transposed.Solve(r, true);
+    at.Evaluate(x_trial, &r_trial, nullptr);
+    const double trial = r_trial.norm() / scale;
+    if (!(trial < 0.25 * norm)) return false;  // too slow a contraction: Newton takes over
+    x->swap(x_trial);
+    r.swap(r_trial);
+    norm = trial;
+  }
+  return norm <= o.residual_tolerance;
+}
+
 // Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
 // the α box; x(α) from Newton warm-started at the last iterate, so every iterate satisfies R = 0,
 // and the reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
@@ -494,21 +519,24 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   const HarmonicBalance& sys = *s.system;
   BoundSolution out;
   out.seed = seed;
+  // φ and the reduced gradient at a solution (x, a); `lu` keeps the factorised (∂R/∂x)ᵀ.
   auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
-                                Eigen::VectorXd* g) {
+                                Eigen::VectorXd* g, dense::Lu* lu) {
     HbmEvaluation e;
     HbmRequest req;
     req.jacobian = req.alpha_jacobian = true;
     sys.Evaluate(x, s.omega, a, req, &e);
     Eigen::VectorXd gx, ga;
     *phi = Objective(s, x, a, e, &gx, &ga);
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(e.jacobian.transpose());
-    if (!(lu.rcond() > 1e-14)) return false;
-    *g = ga - e.alpha_jacobian.transpose() * lu.solve(gx);
+    lu->Compute(e.jacobian.transpose());
+    if (!(lu->rcond() > 1e-14)) return false;
+    *g = ga - e.alpha_jacobian.transpose() * lu->Solve(gx);
     return g->allFinite();
   };
   Eigen::VectorXd x = x0, a = a0, g;
   double phi = 0.0;
+  dense::Lu lu, lu_new;
+  std::vector<ContactRegime> regimes = Regimes(sys, x, s.omega, a), regimes_new;
   auto finish = [&](BoundStatus status, const std::string& message) {
     out.x = x;
     out.alpha = a;
@@ -521,7 +549,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     }
     return out;
   };
-  if (!value_and_gradient(x, a, &phi, &g)) {
+  if (!value_and_gradient(x, a, &phi, &g, &lu)) {
     return finish(BoundStatus::kFailed, "singular Jacobian at the start");
   }
   const NewtonOptions newton;
@@ -540,11 +568,23 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     for (int bt = 0; bt < 40 && !accepted; ++bt, step *= 0.5) {
       a_new = (a - step * g).cwiseMax(-1.0).cwiseMin(1.0);
       if ((a_new - a).lpNorm<Eigen::Infinity>() <= 1e-14) break;
+      // x(α_new): chord steps with the last factorisation, kept only if every contact is in the
+      // regime it had at the last accepted point (a chord step can otherwise land on another
+      // branch, e.g. a lift-off the Newton path would not reach); else Newton.
+      const HbmAtFrequency at(sys, s.omega, a_new);
+      bool solved = false;
       x_new = x;
-      if (!SolveNewton(HbmAtFrequency(sys, s.omega, a_new), newton, &x_new).IsSolutionUsable()) {
-        continue;
+      if (ChordSolve(at, lu, newton, &x_new)) {
+        regimes_new = Regimes(sys, x_new, s.omega, a_new);
+        solved =
+            regimes_new == regimes && value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new);
       }
-      if (!value_and_gradient(x_new, a_new, &phi_new, &g_new)) continue;
+      if (!solved) {
+        x_new = x;
+        if (!SolveNewton(at, newton, &x_new).IsSolutionUsable()) continue;
+        if (!value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new)) continue;
+        regimes_new.clear();
+      }
       accepted = phi_new <= phi - 1e-4 * g.dot(a - a_new);
     }
     if (!accepted) {
@@ -558,12 +598,15 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     a = a_new;
     g = g_new;
     phi = phi_new;
+    std::swap(lu, lu_new);
+    regimes = regimes_new.empty() ? Regimes(sys, x, s.omega, a) : regimes_new;
     quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
     if (quiet >= 3) {
       return finish(BoundStatus::kConverged, "reduced space: objective stationary");
     }
     const double sy = ds.dot(dg);
-    step = sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step;  // Barzilai-Borwein
+    step =
+        sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step;  // Barzilai-Borwein
   }
   return finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");
 }
@@ -699,20 +742,20 @@ std::string BoundsResult::BriefReport() const {
      << start_failures << " start failures, " << min_failures << " failed min runs, "
      << max_failures << " failed max runs, " << optimizer_runs
      << " optimiser runs (the others started at a KKT point); spread of the optimum over "
-     << "seeds: min " << spread_min << ", max " << spread_max << "; sample check: "
-     << samples_checked << " samples (" << samples_failed << " failed), "
+     << "seeds: min " << spread_min << ", max " << spread_max
+     << "; sample check: " << samples_checked << " samples (" << samples_failed << " failed), "
      << improved_by_samples << " bounds improved";
   return os.str();
 }
 
-BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
+                            const BoundsOptions& options,
                             const std::vector<Eigen::VectorXd>& seeds) {
   const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
                                 std::to_string(seeds.empty() ? 0 : seeds[0].size()) +
-                                " entries, the system has " +
-                                std::to_string(nc) + " contacts");
+                                " entries, the system has " + std::to_string(nc) + " contacts");
   }
   const double omega = kTwoPi * freq_hz;
 

@@ -59,6 +59,9 @@ CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
   const Eigen::MatrixXd k_stick = model_.stiffness + b_.transpose() * ks_.asDiagonal() * b_;
   receptance_ = std::make_unique<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
                                                      options_.harmonics, options_.receptance);
+  std::vector<Eigen::VectorXd> loads;
+  for (int h = 0; h <= options_.harmonics; ++h) loads.push_back(Excitation(h));
+  receptance_->SetFixedLoads(std::move(loads), model_.response_dof);
   aft_ = std::make_unique<AftContactForces>(options_);
   full_ = std::make_unique<HbmSystem>(model_, options_);
   blocks_.resize(nc);
@@ -166,12 +169,18 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
     const std::vector<int> js = Coefficients(h);
     const int m = static_cast<int>(js.size());
     const Eigen::MatrixXd& g = receptance_->G(h);
-    const Eigen::VectorXd xt =
-        receptance_->Solve(h, Excitation(h)) - receptance_->TimesP(h, Stack(h, ft));
-    const Eigen::VectorXd bx = receptance_->Relative(h, xt);
-    const Eigen::MatrixXd pr = receptance_->PRows(h, resp);  // response rows of P_h
+    const Eigen::MatrixXd& pr = receptance_->DofPRows(h);  // response rows of P_h
+    // x̃_h = Z̃_h⁻¹ (f_h − B_hᵀ F̃_h): only its relative part and the response are needed here,
+    // both from per-ω quantities (the full x̃_h only for ∂/∂ω).
+    const Eigen::VectorXd fs = Stack(h, ft);
+    const Eigen::VectorXd bx = receptance_->LoadRelative(h) - g * fs;
+    Eigen::VectorXd y(m);  // response coefficients
+    for (int jj = 0; jj < m; ++jj) {
+      y[jj] = receptance_->LoadResponse(h)[jj * n + resp] - pr.row(jj).dot(fs);
+    }
     Eigen::VectorXd dxt, bd;  // ∂x̃_h/∂ω = −Z̃_h⁻¹ (∂Z̃_h/∂ω) x̃_h and B ∂x̃_h/∂ω
     if (request.omega_derivative) {
+      const Eigen::VectorXd xt = receptance_->LoadResponse(h) - receptance_->TimesP(h, fs);
       dxt = -receptance_->Solve(h, receptance_->DzDomegaTimes(h, xt));
       bd = receptance_->Relative(h, dxt);
     }
@@ -180,7 +189,7 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
       for (int i = 0; i < nr; ++i) {
         out->residual[Idx(j, i)] = w_[i] * (x[Idx(j, i)] - bx[jj * nr + i]);
       }
-      out->residual[Idx(j, nr)] = sy_ * (x[Idx(j, nr)] - xt[jj * n + resp]);
+      out->residual[Idx(j, nr)] = sy_ * (x[Idx(j, nr)] - y[jj]);
       if (request.omega_derivative) {
         for (int i = 0; i < nr; ++i) out->omega_derivative[Idx(j, i)] = -w_[i] * bd[jj * nr + i];
         out->omega_derivative[Idx(j, nr)] = -sy_ * dxt[jj * n + resp];
@@ -265,8 +274,7 @@ Eigen::VectorXd CondensedSystem::Recover(const Eigen::VectorXd& x, double omega,
   Eigen::VectorXd full(n * (2 * options_.harmonics + 1));
   for (int h = 0; h <= options_.harmonics; ++h) {
     const std::vector<int> js = Coefficients(h);
-    const Eigen::VectorXd xt =
-        receptance_->Solve(h, Excitation(h)) - receptance_->TimesP(h, Stack(h, ft));
+    const Eigen::VectorXd xt = receptance_->LoadResponse(h) - receptance_->TimesP(h, Stack(h, ft));
     for (size_t jj = 0; jj < js.size(); ++jj) {
       full.segment(js[jj] * n, n) = xt.segment(static_cast<int>(jj) * n, n);
     }

@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "linear/dense_lapack.h"
+
 namespace fricrom {
 
 HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eigen::MatrixXd c,
@@ -35,20 +37,20 @@ HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eig
         "modal receptance: the mass matrix is not positive definite (massless DOFs?); use the "
         "dense receptance");
   }
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(ks, ms);
-  if (es.info() != Eigen::Success) {
+  if (!dense::SymmetricGeneralizedEigen(ks, ms, &lambda_, &phi_)) {
     throw std::invalid_argument("modal receptance: the eigen-decomposition of (K, M) failed");
   }
-  lambda_ = es.eigenvalues();
   if (!(lambda_.minCoeff() > 1e-12 * std::max(lambda_.maxCoeff(), 1.0))) {
     throw std::invalid_argument(
         "modal receptance: K is not positive definite on M's modes (smallest eigenvalue " +
         std::to_string(lambda_.minCoeff()) + " rad^2/s^2): a free body is not held");
   }
-  phi_ = es.eigenvectors();  // M-orthonormal
-  w_ = b_ * phi_;
-  mphi_ = ms * phi_;
-  const Eigen::MatrixXd cm = phi_.transpose() * (0.5 * (c_ + c_.transpose())) * phi_;
+  // Φ is M-orthonormal. The n³ products go through BLAS (dense_lapack.h).
+  w_ = dense::Product(b_, false, phi_, false);
+  mphi_ = dense::Product(ms, false, phi_, false);
+  const Eigen::MatrixXd cs = 0.5 * (c_ + c_.transpose());
+  const Eigen::MatrixXd cm =
+      dense::Product(phi_, true, dense::Product(cs, false, phi_, false), false);
   modal_c_ = cm.diagonal();
   const double cmax = std::max(modal_c_.cwiseAbs().maxCoeff(), 1e-300);
   for (Eigen::Index j = 0; j < n; ++j) {
@@ -67,6 +69,38 @@ void HarmonicReceptance::SetFrequency(double omega) {
     SetFrequencyDense(omega);
   }
   omega_ = omega;
+  UpdateFixedLoads();
+}
+
+void HarmonicReceptance::SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof) {
+  const int n = num_dofs();
+  if (static_cast<int>(loads.size()) != harmonics_ + 1 || dof < 0 || dof >= n) {
+    throw std::invalid_argument(
+        "HarmonicReceptance::SetFixedLoads: one load per harmonic and a "
+        "DOF in range expected");
+  }
+  for (int h = 0; h <= harmonics_; ++h) {
+    if (loads[h].size() == 0) loads[h] = Eigen::VectorXd::Zero(h == 0 ? n : 2 * n);
+    if (loads[h].size() != (h == 0 ? n : 2 * n)) {
+      throw std::invalid_argument("HarmonicReceptance::SetFixedLoads: load size of harmonic " +
+                                  std::to_string(h));
+    }
+  }
+  loads_ = std::move(loads);
+  dof_ = dof;
+  if (omega_ >= 0.0) UpdateFixedLoads();
+}
+
+void HarmonicReceptance::UpdateFixedLoads() {
+  if (loads_.empty()) return;
+  load_response_.resize(harmonics_ + 1);
+  load_relative_.resize(harmonics_ + 1);
+  dof_p_rows_.resize(harmonics_ + 1);
+  for (int h = 0; h <= harmonics_; ++h) {
+    load_response_[h] = Solve(h, loads_[h]);
+    load_relative_[h] = Relative(h, load_response_[h]);
+    dof_p_rows_[h] = PRows(h, dof_);
+  }
 }
 
 void HarmonicReceptance::SetFrequencyDense(double omega) {
@@ -74,20 +108,20 @@ void HarmonicReceptance::SetFrequencyDense(double omega) {
   for (int h = 0; h <= harmonics_; ++h) {
     Eigen::MatrixXd bt;
     if (h == 0) {
-      lu_[0].compute(k_);
+      lu_[0].Compute(k_);
       bt = b_.transpose();
     } else {
       const double hw = h * omega;
       const Eigen::MatrixXd kd = k_ - hw * hw * m_;
       Eigen::MatrixXd z(2 * n, 2 * n);
       z << kd, hw * c_, -hw * c_, kd;
-      lu_[h].compute(z);
+      lu_[h].Compute(z);
       bt.setZero(2 * n, 2 * nr);
       bt.topLeftCorner(n, nr) = b_.transpose();
       bt.bottomRightCorner(n, nr) = b_.transpose();
     }
-    p_[h] = lu_[h].solve(bt);
-    g_[h] = bt.transpose() * p_[h];
+    p_[h] = lu_[h].Solve(bt);
+    g_[h] = dense::Product(bt, true, p_[h], false);
   }
 }
 
@@ -99,12 +133,12 @@ void HarmonicReceptance::SetFrequencyModal(double omega) {
              std::complex<double>(0.0, 1.0) * hw * modal_c_.array())
                 .inverse()
                 .matrix();
-    const Eigen::MatrixXd gr = w_ * d_[h].real().asDiagonal() * w_.transpose();
+    const Eigen::MatrixXd gr = dense::Product(w_ * d_[h].real().asDiagonal(), false, w_, true);
     if (h == 0) {
       g_[0] = gr;
       continue;
     }
-    const Eigen::MatrixXd gi = w_ * d_[h].imag().asDiagonal() * w_.transpose();
+    const Eigen::MatrixXd gi = dense::Product(w_ * d_[h].imag().asDiagonal(), false, w_, true);
     g_[h].resize(2 * nr, 2 * nr);
     g_[h] << gr, gi, -gi, gr;
   }
@@ -127,7 +161,7 @@ Eigen::VectorXd FromComplex(const Eigen::VectorXcd& z) {
 }  // namespace
 
 Eigen::VectorXd HarmonicReceptance::Solve(int h, const Eigen::VectorXd& rhs) const {
-  if (method_ == ReceptanceMethod::kDense) return lu_[h].solve(rhs);
+  if (method_ == ReceptanceMethod::kDense) return lu_[h].Solve(rhs);
   if (h == 0) return phi_ * (lambda_.cwiseInverse().asDiagonal() * (phi_.transpose() * rhs));
   const Eigen::VectorXcd q = d_[h].asDiagonal() * (phi_.transpose() * ToComplex(rhs, num_dofs()));
   return FromComplex(phi_ * q);

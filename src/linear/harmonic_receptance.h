@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fricrom/harmonic_balance.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom {
 
@@ -23,8 +24,16 @@ class HarmonicReceptance {
   HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eigen::MatrixXd c, Eigen::MatrixXd b,
                      int harmonics, ReceptanceMethod method = ReceptanceMethod::kDense);
 
-  // Forms G_h (and, dense, the factorisations and P_h = Z_h⁻¹ B_hᵀ); no-op if ω is unchanged.
+  // Forms G_h (and, dense, the factorisations and P_h = Z_h⁻¹ B_hᵀ) and the responses to the
+  // fixed loads; no-op if ω is unchanged.
   void SetFrequency(double omega);
+  // Fixed loads f_h (n entries for h = 0, 2n for h ≥ 1; empty = none) and one DOF of interest:
+  // their responses Z_h⁻¹ f_h, its relative part B_h Z_h⁻¹ f_h and P_h's rows of the DOF are
+  // kept per ω, so a Newton step at fixed ω needs only G_h products (n_r² instead of n n_r).
+  void SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof);
+  const Eigen::VectorXd& LoadResponse(int h) const { return load_response_[h]; }
+  const Eigen::VectorXd& LoadRelative(int h) const { return load_relative_[h]; }
+  const Eigen::MatrixXd& DofPRows(int h) const { return dof_p_rows_[h]; }
   double omega() const { return omega_; }
   int num_dofs() const { return static_cast<int>(k_.rows()); }
   int num_relative() const { return static_cast<int>(b_.rows()); }
@@ -48,6 +57,7 @@ class HarmonicReceptance {
  private:
   void SetFrequencyDense(double omega);
   void SetFrequencyModal(double omega);
+  void UpdateFixedLoads();
   // C x, or in the modal route the damping it models, M Φ diag(c) Φᵀ M x.
   Eigen::VectorXd DampingTimes(const Eigen::VectorXd& x) const;
 
@@ -56,7 +66,7 @@ class HarmonicReceptance {
   ReceptanceMethod method_;
   double omega_ = -1.0;
   // dense route
-  std::vector<Eigen::PartialPivLU<Eigen::MatrixXd>> lu_;
+  std::vector<dense::Lu> lu_;
   std::vector<Eigen::MatrixXd> p_;
   // modal route
   Eigen::MatrixXd phi_, mphi_, w_;  // mass-normalised modes Φ (n × n), M Φ and W = B Φ
@@ -64,6 +74,10 @@ class HarmonicReceptance {
   double coupling_ = 0.0;
   std::vector<Eigen::VectorXcd> d_;  // Z_h⁻¹ ≅ Φ diag(d_h) Φᵀ in complex form
   std::vector<Eigen::MatrixXd> g_;
+  // fixed loads and their per-ω responses
+  std::vector<Eigen::VectorXd> loads_, load_response_, load_relative_;
+  std::vector<Eigen::MatrixXd> dof_p_rows_;
+  int dof_ = -1;
 };
 
 }  // namespace fricrom

@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "blas_gemm.h"
 #include "cholmod_factor.h"
 #include "fricrom/reduction.h"
 #include "fricrom/units.h"
 #include "interior_modes.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom {
 namespace {
@@ -207,7 +207,10 @@ std::vector<bool> CheckContract(const Eigen::SparseMatrix<double>& stiffness,
 void Assemble(const Blocks& kb, const Blocks& mb, const Eigen::VectorXd& lambda,
               const Eigen::MatrixXd& kii_phi, const Eigen::MatrixXd& mii_phi, double k_max,
               ReducedModel* out, CraigBamptonChecks* ch) {
-  using reduction_detail::TransposeTimes;
+  // aᵀ b through BLAS dgemm: ~10x Eigen's portable kernels on the tall products (123k rows).
+  const auto TransposeTimes = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return dense::Product(a, true, b, false);
+  };
   const Eigen::MatrixXd& psi = out->constraint_modes;
   const Eigen::MatrixXd& phi = out->normal_modes;
   const int nb = static_cast<int>(psi.cols()), ni = static_cast<int>(psi.rows());

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "fricrom/solve.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom {
 
@@ -115,9 +116,9 @@ bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& p
   a.row(s.n()) = previous.transpose();
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(s.n() + 1);
   rhs[s.n()] = 1.0;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  const dense::Lu lu(a);
   if (!(lu.rcond() > 1e-15)) return false;
-  *tau = lu.solve(rhs);
+  *tau = lu.Solve(rhs);
   if (!tau->allFinite()) return false;
   tau->normalize();
   if (tau->dot(previous) < 0.0) *tau = -*tau;
@@ -140,7 +141,8 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
 
   // Starting point.
   Eigen::VectorXd x = x0;
-  NewtonSummary start = SolveNewton(FixedLambda(system, options.lambda_start), options.corrector, &x);
+  NewtonSummary start =
+      SolveNewton(FixedLambda(system, options.lambda_start), options.corrector, &x);
   summary.evaluations += start.evaluations;
   if (!start.IsSolutionUsable()) {
     summary.status = ContinuationStatus::kStartFailed;
@@ -194,7 +196,8 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
     if (dir * (z_new[n] - lambda_end_scaled) >= 0.0) {
       const double f = (lambda_end_scaled - z[n]) / (z_new[n] - z[n]);
       Eigen::VectorXd x_end = s.xs * (z.head(n) + f * (z_new.head(n) - z.head(n)));
-      NewtonSummary es = SolveNewton(FixedLambda(system, options.lambda_end), options.corrector, &x_end);
+      NewtonSummary es =
+          SolveNewton(FixedLambda(system, options.lambda_end), options.corrector, &x_end);
       summary.evaluations += es.evaluations;
       if (es.IsSolutionUsable()) {
         Eigen::VectorXd z_end(n + 1);

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "fricrom/solve.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom {
 
@@ -37,8 +38,8 @@ bool NewtonOptions::IsValid(std::string* error) const {
 
 std::string NewtonSummary::BriefReport() const {
   std::ostringstream s;
-  s << "Newton: " << ToString(status) << " after " << iterations << " iterations ("
-    << evaluations << " evaluations), |R|/scale " << initial_residual << " -> " << final_residual;
+  s << "Newton: " << ToString(status) << " after " << iterations << " iterations (" << evaluations
+    << " evaluations), |R|/scale " << initial_residual << " -> " << final_residual;
   if (!message.empty()) s << " [" << message << "]";
   return s.str();
 }
@@ -74,14 +75,14 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
       return summary;
     }
     ++summary.iterations;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu(j);
+    const dense::Lu lu(j);
     const double rcond = lu.rcond();
     if (!(rcond > 1e-15)) {
       summary.status = SolverStatus::kSingular;
       summary.message = "Jacobian reciprocal condition " + std::to_string(rcond);
       return summary;
     }
-    const Eigen::VectorXd dx = -lu.solve(r);
+    const Eigen::VectorXd dx = -lu.Solve(r);
     if (!dx.allFinite()) {
       summary.status = SolverStatus::kSingular;
       summary.message = "non-finite Newton step";
@@ -133,7 +134,8 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
       summary.message = "residual grew past divergence_factor";
       return summary;
     }
-    if (norm > options.residual_tolerance && step <= options.step_tolerance * (x->norm() + 1e-300)) {
+    if (norm > options.residual_tolerance &&
+        step <= options.step_tolerance * (x->norm() + 1e-300)) {
       summary.status = SolverStatus::kMaxIterations;
       summary.message = "stagnated: step below step_tolerance";
       return summary;

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace fricrom {
 namespace {
@@ -51,6 +52,50 @@ TEST(HarmonicReceptance, ModalEqualsDenseForProportionalDamping) {
                         dense.DzDomegaTimes(h, f) + Eigen::VectorXd::Ones(rows)),
                 1e-10);
     }
+  }
+}
+
+TEST(HarmonicReceptance, LapackSizedModalEqualsDense) {
+  // n = 130 ≥ dense::kLapackMinSize: dgetrf and dsygvd routes, Rayleigh damping.
+  const Matrices s = MakeSystem(130, 40);
+  const Eigen::MatrixXd c = 3.0 * s.m + 2e-5 * s.k;
+  HarmonicReceptance dense(s.k, s.m, c, s.b, 2, ReceptanceMethod::kDense);
+  HarmonicReceptance modal(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
+  dense.SetFrequency(2500.0);
+  modal.SetFrequency(2500.0);
+  for (int h = 0; h <= 2; ++h) {
+    const Eigen::VectorXd f = Eigen::VectorXd::Random(h == 0 ? 130 : 260);
+    EXPECT_LT(RelDiff(modal.G(h), dense.G(h)), 1e-9) << "h " << h;
+    EXPECT_LT(RelDiff(modal.Solve(h, f), dense.Solve(h, f)), 1e-9) << "h " << h;
+  }
+}
+
+TEST(HarmonicReceptance, FixedLoadResponsesFollowTheFrequency) {
+  // The per-ω cache equals fresh solves, also after the loads are set before any frequency and
+  // after a change of frequency.
+  const Matrices s = MakeSystem(10, 4);
+  const Eigen::MatrixXd c = 1e-4 * s.k;
+  for (ReceptanceMethod m : {ReceptanceMethod::kDense, ReceptanceMethod::kModal}) {
+    HarmonicReceptance r(s.k, s.m, c, s.b, 2, m);
+    std::vector<Eigen::VectorXd> loads = {Eigen::VectorXd::Random(10), Eigen::VectorXd(),
+                                          Eigen::VectorXd::Random(20)};
+    r.SetFixedLoads(loads, 3);
+    for (double omega : {300.0, 4100.0}) {
+      r.SetFrequency(omega);
+      for (int h = 0; h <= 2; ++h) {
+        const Eigen::VectorXd f = loads[h].size() ? loads[h] : Eigen::VectorXd::Zero(20);
+        const Eigen::VectorXd x = r.Solve(h, f);
+        EXPECT_LT(RelDiff(r.LoadResponse(h) + Eigen::VectorXd::Ones(x.size()),
+                          x + Eigen::VectorXd::Ones(x.size())),
+                  1e-14);
+        EXPECT_LT(RelDiff(r.LoadRelative(h) + Eigen::VectorXd::Ones(r.LoadRelative(h).size()),
+                          r.Relative(h, x) + Eigen::VectorXd::Ones(r.LoadRelative(h).size())),
+                  1e-14);
+        EXPECT_LT(RelDiff(r.DofPRows(h), r.PRows(h, 3)), 1e-14);
+      }
+    }
+    EXPECT_THROW(r.SetFixedLoads(loads, 10), std::invalid_argument);      // DOF out of range
+    EXPECT_THROW(r.SetFixedLoads({loads[0]}, 3), std::invalid_argument);  // one per harmonic
   }
 }
 
