@@ -1,21 +1,24 @@
 #include "app/commands.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
-#include <unistd.h>
 
 #include "app/cli_common.h"
 #include "app/design_commands.h"
 #include "app/fe_commands.h"
 #include "app/reduce_commands.h"
+#include "fricrom/blas_threads.h"
 #include "fricrom/case.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/frf.h"
@@ -79,17 +82,19 @@ struct FrfArgs {
 int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
   const Case c = cargs.Load();
   const auto t0 = std::chrono::steady_clock::now();
-  Eigen::VectorXd alpha = Eigen::Map<const Eigen::VectorXd>(c.analysis.alpha.data(),
-                                                            c.analysis.alpha.size());
+  Eigen::VectorXd alpha =
+      Eigen::Map<const Eigen::VectorXd>(c.analysis.alpha.data(), c.analysis.alpha.size());
   if (!a.alpha.empty()) {
     const std::vector<double> al = ParseList(a.alpha, "--alpha");
     if (static_cast<int>(al.size()) != c.model.num_alpha()) {
-      throw CLI::ValidationError("--alpha", "expected " + std::to_string(c.model.num_alpha()) +
-                                                " values (one per α: per contact or α group), got " +
-                                                std::to_string(al.size()));
+      throw CLI::ValidationError("--alpha",
+                                 "expected " + std::to_string(c.model.num_alpha()) +
+                                     " values (one per α: per contact or α group), got " +
+                                     std::to_string(al.size()));
     }
     for (double v : al) {
-      if (!(std::abs(v) <= 1.0)) throw CLI::ValidationError("--alpha", "values must lie in [-1, 1]");
+      if (!(std::abs(v) <= 1.0))
+        throw CLI::ValidationError("--alpha", "values must lie in [-1, 1]");
     }
     alpha = Eigen::Map<const Eigen::VectorXd>(al.data(), al.size());
   }
@@ -108,7 +113,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
       if (!(v > 0.0)) throw CLI::ValidationError("--freq", "frequencies must be > 0 Hz");
     }
     points = SolveAtFrequencies(system, alpha, f, opt, [&](int done, int total) {
-      if (show_progress) std::cerr << "\rfrf: " << done << "/" << total << " frequencies" << std::flush;
+      if (show_progress)
+        std::cerr << "\rfrf: " << done << "/" << total << " frequencies" << std::flush;
     });
     for (const FrfPoint& p : points) ok = ok && p.status == SolverStatus::kConverged;
     summary_json = {{"mode", "frequencies"}};
@@ -127,7 +133,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
                     {"turning_points", tr.summary.turning_points},
                     {"rejected_steps", tr.summary.rejected_steps},
                     {"evaluations", tr.summary.evaluations}};
-    if (!a.as_json && !a.quiet) std::cerr << (show_progress ? "\n" : "") << tr.summary.BriefReport() << "\n";
+    if (!a.as_json && !a.quiet)
+      std::cerr << (show_progress ? "\n" : "") << tr.summary.BriefReport() << "\n";
   }
   if (show_progress && !a.freqs.empty()) std::cerr << "\n";
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -138,8 +145,10 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     lf[i] = c.analysis.freq_min_hz +
             (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (a.linear_points - 1);
   }
-  const std::vector<double> free_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
-  const std::vector<double> stick_amp = LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
+  const std::vector<double> free_amp =
+      LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
+  const std::vector<double> stick_amp =
+      LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
 
   // Files.
   const fs::path out_dir = a.out.empty() ? fs::path("results") / c.name : fs::path(a.out);
@@ -166,7 +175,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
         x.row(i).setConstant(NAN);
       }
       for (size_t k = 0; k < c.model.contacts.size(); ++k) {
-        regimes.push_back(k < points[i].regimes.size() ? ToString(points[i].regimes[k]) : "unknown");
+        regimes.push_back(k < points[i].regimes.size() ? ToString(points[i].regimes[k])
+                                                       : "unknown");
       }
     }
     h5.Vector("frf/freq_hz", f);
@@ -178,7 +188,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     h5.Vector("frf/alpha", alpha);
     h5.Strings("frf/contacts", c.contact_names);
     h5.Strings("frf/dof_names", c.model.dof_names);
-    h5.Attribute("frf", "x_layout", "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
+    h5.Attribute("frf", "x_layout",
+                 "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
     h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
     std::ostringstream label;
     label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
@@ -211,8 +222,9 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
   bool plotted = false;
   if (a.plot) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) +
-                            "/scripts/plot_frf.py' '" + h5_path.string() + "' '" + png_path.string() +
-                            "'" + (a.normalise ? " --normalise" : "") + " 1>&2";  // stdout is for --json
+                            "/scripts/plot_frf.py' '" + h5_path.string() + "' '" +
+                            png_path.string() + "'" + (a.normalise ? " --normalise" : "") +
+                            " 1>&2";  // stdout is for --json
     plotted = std::system(cmd.c_str()) == 0;
     if (!plotted) std::cerr << "frf: figure not written (see the message above)\n";
   }
@@ -283,8 +295,8 @@ int RunCase(const CaseArgs& args) {
   std::cout << "# resolved case '" << c.name << "' from " << c.source << " (units: SI)\n"
             << c.resolved << "\n";
   std::cout << "# " << c.model.num_dofs() << " DOFs, " << c.model.contacts.size()
-            << " contacts, H = " << c.analysis.harmonics << ", "
-            << c.analysis.samples_per_period << " samples/period\n";
+            << " contacts, H = " << c.analysis.harmonics << ", " << c.analysis.samples_per_period
+            << " samples/period\n";
   return 0;
 }
 
@@ -298,15 +310,18 @@ int Run(int argc, char** argv) {
 
   CaseArgs modes_args, frf_args, case_args;
   bool modes_json = false;
-  CLI::App* modes = app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
+  CLI::App* modes =
+      app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
   modes_args.Register(modes);
   modes->add_flag("--json", modes_json, "Print one JSON object on stdout");
 
   FrfArgs fa;
   CLI::App* frf = app.add_subcommand("frf", "Nonlinear forced response at fixed alpha (HBM/AFT)");
   frf_args.Register(frf);
-  frf->add_option("--alpha", fa.alpha, "Initial tangential force coefficients, one per contact: a1,a2,...");
-  frf->add_option("--freq", fa.freqs, "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
+  frf->add_option("--alpha", fa.alpha,
+                  "Initial tangential force coefficients, one per contact: a1,a2,...");
+  frf->add_option("--freq", fa.freqs,
+                  "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
   frf->add_option("--out", fa.out, "Output directory (default results/<case name>)");
   frf->add_option("--max-step", fa.max_step, "Largest continuation step (scaled arclength)")
       ->check(Positive());
@@ -315,7 +330,8 @@ int Run(int argc, char** argv) {
   frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
   frf->add_flag("--quiet", fa.quiet, "Print nothing but errors");
 
-  CLI::App* casecmd = app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
+  CLI::App* casecmd =
+      app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
   case_args.Register(casecmd);
   CaseArgs export_args;
   std::string export_dir;
@@ -337,6 +353,11 @@ int Run(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << "fricrom: error: " << e.what() << "\nRun with --help for more information.\n";
     return 2;
+  }
+  // One BLAS thread for the harmonic-balance commands (fricrom/blas_threads.h says why); the
+  // Craig-Bampton reduction keeps OpenBLAS's default, and the environment always wins.
+  if (!app.got_subcommand("reduce") && std::getenv("OPENBLAS_NUM_THREADS") == nullptr) {
+    SetBlasThreads(1);
   }
   try {
     if (*modes) return RunModes(modes_args, modes_json);

@@ -79,7 +79,8 @@ bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::
   s.system->Evaluate(x0, s.omega, alpha0, req, &e);
   Eigen::VectorXd gx, ga;
   Objective(s, x0, alpha0, e, &gx, &ga);
-  const dense::Lu lu(e.jacobian.transpose());
+  dense::Lu lu;
+  lu.ComputeTransposed(e.jacobian);
   if (!(lu.rcond() > 1e-12)) return false;
   const Eigen::VectorXd lambda = lu.Solve(gx);
   const Eigen::VectorXd g = ga - e.alpha_jacobian.transpose() * lambda;
@@ -528,7 +529,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     sys.Evaluate(x, s.omega, a, req, &e);
     Eigen::VectorXd gx, ga;
     *phi = Objective(s, x, a, e, &gx, &ga);
-    lu->Compute(e.jacobian.transpose());
+    lu->ComputeTransposed(e.jacobian);
     if (!(lu->rcond() > 1e-14)) return false;
     *g = ga - e.alpha_jacobian.transpose() * lu->Solve(gx);
     return g->allFinite();

@@ -16,6 +16,11 @@ std::vector<int> Coefficients(int h) {
   return h == 0 ? std::vector<int>{0} : std::vector<int>{2 * h - 1, 2 * h};
 }
 
+bool FullStick(const ContactForceBlocks& f) {
+  return std::all_of(f.law.states.begin(), f.law.states.end(),
+                     [](ContactState s) { return s == ContactState::kStick; });
+}
+
 Eigen::MatrixXd RelativeOperator(const Model& model) {
   const int nc = static_cast<int>(model.contacts.size());
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(2 * nc, model.num_dofs());
@@ -139,14 +144,25 @@ Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd
   for (int c = 0; c < nc; ++c) {
     const ContactForceBlocks& f = blocks_[c];
     const double kt = ks_[2 * c], kn = ks_[2 * c + 1];
+    // Fully stuck, T and N are linear in the harmonics h ≥ 1 with the stick stiffness, so those
+    // entries of F̃ = F − k u vanish but for the AFT's round-off: they are set to exact zeros, which
+    // leaves unit columns in the Jacobian that the dense LU eliminates (the mean, which sets no
+    // static tangential force under α, keeps its derivative).
+    const double floor = FullStick(f) ? 1e-12 : 0.0;
+    const auto clean = [floor](double value, double k) {
+      return std::abs(value) <= floor * k ? 0.0 : value;
+    };
     for (size_t jj = 0; jj < js.size(); ++jj) {
       const int j = js[jj];
       const auto col_t = a.col(static_cast<int>(jj) * nr + 2 * c);      // rows of F̃ (j, T)
       const auto col_n = a.col(static_cast<int>(jj) * nr + 2 * c + 1);  // rows of F̃ (j, N)
       for (int l = 0; l < nh; ++l) {
         const double stick = j == l ? 1.0 : 0.0;
-        out.col(l * nr + 2 * c) += (f.dt_du(j, l) - kt * stick) * col_t;
-        out.col(l * nr + 2 * c + 1) += f.dt_dv(j, l) * col_t + (f.dn_dv(j, l) - kn * stick) * col_n;
+        const double tu = clean(f.dt_du(j, l) - kt * stick, kt);
+        const double tv = clean(f.dt_dv(j, l), kn), nv = clean(f.dn_dv(j, l) - kn * stick, kn);
+        if (tu != 0.0) out.col(l * nr + 2 * c) += tu * col_t;
+        if (tv != 0.0) out.col(l * nr + 2 * c + 1) += tv * col_t;
+        if (nv != 0.0) out.col(l * nr + 2 * c + 1) += nv * col_n;
       }
     }
   }
@@ -201,12 +217,9 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
       for (int jj = 0; jj < m; ++jj) {
         const int j = js[jj];
         for (int l = 0; l < nh; ++l) {
-          for (int i2 = 0; i2 < nr; ++i2) {
-            for (int i = 0; i < nr; ++i) {
-              out->jacobian(Idx(j, i), Idx(l, i2)) = w_[i] * gdf(jj * nr + i, l * nr + i2);
-            }
-            out->jacobian(Idx(j, nr), Idx(l, i2)) = sy_ * pdf(jj, l * nr + i2);
-          }
+          out->jacobian.block(Idx(j, 0), Idx(l, 0), nr, nr).noalias() =
+              w_.asDiagonal() * gdf.block(jj * nr, l * nr, nr, nr);
+          out->jacobian.block(Idx(j, nr), Idx(l, 0), 1, nr) = sy_ * pdf.block(jj, l * nr, 1, nr);
         }
         for (int i = 0; i < nr; ++i) out->jacobian(Idx(j, i), Idx(j, i)) += w_[i];
         out->jacobian(Idx(j, nr), Idx(j, nr)) = sy_;

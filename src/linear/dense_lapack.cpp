@@ -1,11 +1,15 @@
 #include "linear/dense_lapack.h"
 
+#include <dlfcn.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
+
+#include "fricrom/blas_threads.h"
 
 // Fortran BLAS/LAPACK entry points: every argument by pointer, then gfortran's hidden lengths of
 // the character arguments (size_t since gfortran 8; passing them keeps tail calls inside LAPACK
@@ -61,29 +65,83 @@ Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen:
   return c;
 }
 
-void Lu::Compute(const Eigen::MatrixXd& a) {
+void Lu::Compute(const Eigen::MatrixXd& a) { Factor(a, false); }
+
+void Lu::ComputeTransposed(const Eigen::MatrixXd& a) { Factor(a, true); }
+
+void Lu::Factor(const Eigen::MatrixXd& a, bool transposed) {
   if (a.rows() != a.cols()) throw std::invalid_argument("dense::Lu: matrix is not square");
   n_ = a.rows();
   lapack_ = n_ >= kLapackMinSize && FitsInt(n_);
+  transposed_ = false;
   if (!lapack_) {
-    eigen_.compute(a);
+    if (transposed) {
+      eigen_.compute(a.transpose());
+    } else {
+      eigen_.compute(a);
+    }
     rcond_ = n_ == 0 ? 0.0 : eigen_.rcond();
     if (!(rcond_ >= 0.0)) rcond_ = 0.0;  // NaN from an exactly zero pivot
     return;
   }
-  factors_ = a;
-  pivots_.assign(static_cast<std::size_t>(n_), 0);
-  const int n = static_cast<int>(n_);
-  int info = 0;
+  transposed_ = transposed;  // a itself is factorised; solves swap the transposition
+  // Unit columns: a(:, t) = d_t e_t. With T their set and A the rest, a(A, T) = 0, so
+  // a x = b splits into a(A, A) x_A = b_A and x_T = (b_T − a(T, A) x_A) / d.
+  active_.clear();
+  unit_.clear();
+  for (Eigen::Index c = 0; c < n_; ++c) {
+    const double d = a(c, c);
+    bool unit = d != 0.0 && std::isfinite(d);
+    for (Eigen::Index r = 0; unit && r < n_; ++r) unit = r == c || a(r, c) == 0.0;  // early exit
+    (unit ? unit_ : active_).push_back(c);
+  }
   const double anorm = a.cwiseAbs().colwise().sum().maxCoeff();
-  dgetrf_(&n, &n, factors_.data(), &n, pivots_.data(), &info);
   rcond_ = 0.0;
-  if (info < 0) throw std::logic_error("dense::Lu: dgetrf rejected an argument");
-  if (info > 0 || !std::isfinite(anorm)) return;  // exactly singular or non-finite: rcond 0
-  std::vector<double> work(4 * static_cast<std::size_t>(n));
-  std::vector<int> iwork(static_cast<std::size_t>(n));
-  dgecon_("1", &n, factors_.data(), &n, &anorm, &rcond_, work.data(), iwork.data(), &info, 1);
-  if (info != 0 || !std::isfinite(rcond_)) rcond_ = 0.0;
+  if (!std::isfinite(anorm)) return;
+  const auto na = static_cast<Eigen::Index>(active_.size());
+  unit_diag_.resize(static_cast<Eigen::Index>(unit_.size()));
+  for (std::size_t k = 0; k < unit_.size(); ++k) unit_diag_[k] = a(unit_[k], unit_[k]);
+  if (unit_.empty()) {
+    factors_ = a;
+  } else {
+    factors_.resize(na, na);
+    coupling_.resize(static_cast<Eigen::Index>(unit_.size()), na);
+    for (Eigen::Index k = 0; k < na; ++k) {  // column by column: contiguous reads
+      const auto col = a.col(active_[k]);
+      for (Eigen::Index i = 0; i < na; ++i) factors_(i, k) = col[active_[i]];
+      for (std::size_t i = 0; i < unit_.size(); ++i) coupling_(i, k) = col[unit_[i]];
+    }
+  }
+  double rcond_active = 1.0;
+  if (na > 0) {
+    pivots_.assign(static_cast<std::size_t>(na), 0);
+    const int n = static_cast<int>(na);
+    int info = 0;
+    const double active_norm = factors_.cwiseAbs().colwise().sum().maxCoeff();
+    dgetrf_(&n, &n, factors_.data(), &n, pivots_.data(), &info);
+    if (info < 0) throw std::logic_error("dense::Lu: dgetrf rejected an argument");
+    if (info > 0) return;  // exactly singular: rcond 0
+    std::vector<double> work(4 * static_cast<std::size_t>(n));
+    std::vector<int> iwork(static_cast<std::size_t>(n));
+    dgecon_("1", &n, factors_.data(), &n, &active_norm, &rcond_active, work.data(), iwork.data(),
+            &info, 1);
+    if (info != 0 || !std::isfinite(rcond_active)) return;
+  }
+  // An estimate for the block-triangular whole: the worse of the active block and the unit
+  // pivots relative to the matrix norm (a singularity guard, as the estimate of dgecon is).
+  rcond_ = rcond_active;
+  if (!unit_.empty()) rcond_ = std::min(rcond_, unit_diag_.cwiseAbs().minCoeff() / anorm);
+}
+
+Eigen::MatrixXd Lu::SolveActive(Eigen::MatrixXd b, bool transposed) const {
+  if (b.rows() == 0 || b.cols() == 0) return b;
+  if (!FitsInt(b.cols())) throw std::invalid_argument("dense::Lu::Solve: too many columns");
+  const int n = static_cast<int>(b.rows()), nrhs = static_cast<int>(b.cols());
+  int info = 0;
+  dgetrs_(transposed ? "T" : "N", &n, &nrhs, factors_.data(), &n, pivots_.data(), b.data(), &n,
+          &info, 1);
+  if (info != 0) throw std::logic_error("dense::Lu: dgetrs rejected an argument");
+  return b;
 }
 
 Eigen::MatrixXd Lu::Solve(const Eigen::MatrixXd& b, bool transposed) const {
@@ -92,14 +150,19 @@ Eigen::MatrixXd Lu::Solve(const Eigen::MatrixXd& b, bool transposed) const {
     if (transposed) return eigen_.transpose().solve(b);
     return eigen_.solve(b);
   }
-  Eigen::MatrixXd x = b;
-  if (x.cols() == 0) return x;
-  if (!FitsInt(x.cols())) throw std::invalid_argument("dense::Lu::Solve: too many columns");
-  const int n = static_cast<int>(n_), nrhs = static_cast<int>(x.cols());
-  int info = 0;
-  dgetrs_(transposed ? "T" : "N", &n, &nrhs, factors_.data(), &n, pivots_.data(), x.data(), &n,
-          &info, 1);
-  if (info != 0) throw std::logic_error("dense::Lu: dgetrs rejected an argument");
+  const bool t = transposed != transposed_;  // with respect to the factorised matrix
+  if (unit_.empty()) return SolveActive(b, t);
+  Eigen::MatrixXd x(n_, b.cols());
+  if (!t) {  // x_A = a_AA⁻¹ b_A, x_T = (b_T − a_TA x_A) / d
+    const Eigen::MatrixXd xa = SolveActive(b(active_, Eigen::all), false);
+    x(active_, Eigen::all) = xa;
+    x(unit_, Eigen::all) =
+        unit_diag_.cwiseInverse().asDiagonal() * (b(unit_, Eigen::all) - coupling_ * xa);
+  } else {  // y_T = c_T / d, y_A = a_AA⁻ᵀ (c_A − a_TAᵀ y_T)
+    const Eigen::MatrixXd yt = unit_diag_.cwiseInverse().asDiagonal() * b(unit_, Eigen::all);
+    x(unit_, Eigen::all) = yt;
+    x(active_, Eigen::all) = SolveActive(b(active_, Eigen::all) - coupling_.transpose() * yt, true);
+  }
   return x;
 }
 
@@ -145,3 +208,17 @@ bool SymmetricGeneralizedEigen(const Eigen::MatrixXd& k, const Eigen::MatrixXd& 
 }
 
 }  // namespace fricrom::dense
+
+namespace fricrom {
+
+bool SetBlasThreads(int threads) {
+  if (threads < 1) throw std::invalid_argument("SetBlasThreads: threads must be >= 1");
+  // OpenBLAS's control, looked up at run time: other BLAS libraries have none (or their own).
+  using SetThreads = void (*)(int);
+  void* symbol = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (symbol == nullptr) return false;
+  reinterpret_cast<SetThreads>(symbol)(threads);
+  return true;
+}
+
+}  // namespace fricrom

@@ -19,22 +19,35 @@ Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen:
                         bool transpose_b);
 
 // LU with partial pivoting of a square matrix: dgetrf/dgecon/dgetrs, or Eigen below the size.
+// Unit columns (a(:, t) = d_t e_t, e.g. the unknowns of fully stuck contacts in the condensed
+// balance, on which no force depends) are eliminated exactly before the factorisation, so the
+// cost is that of the remaining block.
 class Lu {
  public:
   Lu() = default;
   explicit Lu(const Eigen::MatrixXd& a) { Compute(a); }
   void Compute(const Eigen::MatrixXd& a);
+  // Factorises aᵀ (without forming it where the LAPACK route can solve with a instead).
+  void ComputeTransposed(const Eigen::MatrixXd& a);
   // Estimate of the reciprocal condition number in the 1-norm (0 when exactly singular).
   double rcond() const { return rcond_; }
   Eigen::Index rows() const { return n_; }
-  // A⁻¹ b, or A⁻ᵀ b when `transposed`.
+  // Eliminated unit columns (LAPACK route).
+  Eigen::Index num_unit_columns() const { return static_cast<Eigen::Index>(unit_.size()); }
+  // A⁻¹ b, or A⁻ᵀ b when `transposed` (A: the matrix factorised, aᵀ after ComputeTransposed).
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b, bool transposed = false) const;
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, bool transposed = false) const;
 
  private:
+  void Factor(const Eigen::MatrixXd& a, bool transposed);
+  Eigen::MatrixXd SolveActive(Eigen::MatrixXd b, bool transposed) const;
+
   Eigen::Index n_ = 0;
   bool lapack_ = false;
-  Eigen::MatrixXd factors_;
+  bool transposed_ = false;
+  std::vector<Eigen::Index> active_, unit_;
+  Eigen::VectorXd unit_diag_;
+  Eigen::MatrixXd factors_, coupling_;  // LU of a(A, A); a(T, A)
   std::vector<int> pivots_;
   Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
   double rcond_ = 0.0;
