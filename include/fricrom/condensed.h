@@ -1,14 +1,15 @@
 // Harmonic balance condensed onto the contact DOFs (issue 10): the nonlinear unknowns are the
 // harmonics of the relative displacements of the contacts (u along the tangent, v along the
-// normal, two per contact) and of the response DOF; the linear remainder is solved per harmonic
+// normal; a row two contacts share, e.g. the normal gap of a pair with two tangential
+// directions, is one unknown) and of the response DOF; the linear remainder is solved per harmonic
 // through the receptance of the linear part. With B the relative-displacement operator,
 // K_s = diag(kt, kn) the stick stiffness of the contacts and Z̃_h = Z_h + Bᵀ K_s B (the
 // full-stick dynamic stiffness, nonsingular even when a damper is held only by its contacts):
 //   x̃_h(r) = Z̃_h⁻¹ (f_h − Bᵀ F̃_h(r)),   F̃(r) = F_c(r) − K_s r   (exact, no approximation),
 //   R_r = W (r − B x̃(r)) = 0,   R_y = s_y (y − e_respᵀ x̃(r)) = 0,
-// with W = diag(max(kn, kt)) per contact (so R is in newtons, like the full balance). The
+// with W = diag(max(kn, kt)) per row (so R is in newtons, like the full balance). The
 // solution equals the full HbmSystem solution (tests compare both to 1e-10). Unknowns are
-// harmonic-major: 2H+1 blocks of [r (2·contacts) | y (1)].
+// harmonic-major: 2H+1 blocks of [r (num_relative() rows) | y (1)].
 #pragma once
 
 #include <Eigen/Dense>
@@ -34,7 +35,8 @@ class CondensedSystem : public HarmonicBalance {
   CondensedSystem& operator=(const CondensedSystem&) = delete;
 
   const Model& model() const { return model_; }
-  int num_relative() const { return 2 * num_contacts(); }
+  // Distinct relative-displacement rows (≤ 2 per contact).
+  int num_relative() const { return static_cast<int>(b_.rows()); }
   int block_size() const { return num_relative() + 1; }
   int num_unknowns() const override;
   int num_contacts() const override { return static_cast<int>(model_.contacts.size()); }
@@ -62,8 +64,10 @@ class CondensedSystem : public HarmonicBalance {
 
  private:
   int Idx(int coefficient, int row) const { return coefficient * block_size() + row; }
+  // b_, ks_, w_ and each contact's rows (row_t_, row_n_), identical rows merged.
+  void BuildRelativeRows();
   void CheckInputs(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha) const;
-  // Contact forces F̃ (coefficient-major, 2 rows per contact) at x; blocks_ keep derivatives.
+  // Contact forces F̃ (coefficient-major, per relative row) at x; blocks_ keep derivatives.
   Eigen::VectorXd ContactForces(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
                                 AftDerivatives derivatives) const;
   // Stacked F̃ (or r) of harmonic h: [coef 2h−1 rows; coef 2h rows], or coef 0.
@@ -74,10 +78,11 @@ class CondensedSystem : public HarmonicBalance {
 
   Model model_;
   HbmOptions options_;
-  Eigen::MatrixXd b_;   // relative-displacement operator, 2 rows per contact (u, v)
-  Eigen::VectorXd ks_;  // stick stiffness per row (kt, kn)
-  Eigen::VectorXd w_;   // row weights of R_r
-  double sy_ = 1.0;     // weight of R_y
+  Eigen::MatrixXd b_;  // relative-displacement operator, one row per distinct (u or v) row
+  std::vector<int> row_t_, row_n_;  // each contact's tangential and normal row of b_
+  Eigen::VectorXd ks_;              // stick stiffness per row (sum of the contacts' kt or kn on it)
+  Eigen::VectorXd w_;               // row weights of R_r
+  double sy_ = 1.0;                 // weight of R_y
   std::unique_ptr<HarmonicReceptance> receptance_;
   std::unique_ptr<AftContactForces> aft_;
   std::unique_ptr<HbmSystem> full_;  // the uncondensed balance: energies, histories, η
