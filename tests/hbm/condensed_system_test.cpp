@@ -158,6 +158,68 @@ TEST(Condensed, BoundsEqualTheFullBounds) {
 // Issue 10 acceptance: an FE assembly with 50 contact pairs (300 DOFs): the condensed balance
 // (101 unknowns per coefficient) gives the full balance's solution to 1e-10, with exact
 // derivatives and energy balance.
+TEST(Condensed, TwoTangentialDirectionsShareTheNormalRow) {
+  // Each pair of the strip as two 1D laws along x and y with kn/2, preload halves and 2μ (as
+  // [[interfaces]] tangential_directions = 2 builds them): the condensed balance has one normal
+  // unknown per pair (3 rows, not 4) and still gives the full balance's solution, residual and
+  // derivatives.
+  Model model = testing::ContactStrip(12);
+  std::vector<Contact> split;
+  for (const Contact& ct : model.contacts) {
+    for (int d = 0; d < 2; ++d) {
+      Contact half = ct;
+      half.name = ct.name + (d ? ".t2" : ".t1");
+      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
+      half.kn = 0.5 * ct.kn;
+      half.kt = 0.5 * ct.kt;
+      half.normal_preload = 0.5 * ct.normal_preload;
+      half.mu = 2.0 * ct.mu;
+      split.push_back(half);
+    }
+  }
+  model.contacts = split;
+  const HbmOptions opt{1, 64};
+  HbmSystem full(model, opt);
+  CondensedSystem cond(model, opt);
+  EXPECT_EQ(cond.num_relative(), 3 * 12);
+  EXPECT_EQ(cond.num_unknowns(), 3 * (3 * 12 + 1));
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(24, -0.8, 0.8);
+  for (double f : {1000.0, 1100.0}) {
+    const FrfPoint a = SolveAtFrequency(full, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    const FrfPoint b = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(a.status, SolverStatus::kConverged) << f;
+    ASSERT_EQ(b.status, SolverStatus::kConverged) << f;
+    EXPECT_LE((cond.Recover(b.x, kTwoPi * f, alpha) - a.x).norm(), 1e-10 * a.x.norm()) << f;
+    HbmEvaluation j;
+    HbmRequest req;
+    req.jacobian = req.alpha_jacobian = true;
+    cond.Evaluate(b.x, kTwoPi * f, alpha, req, &j);
+    const double h = 1e-7 * b.x.cwiseAbs().maxCoeff();
+    for (int k = 0; k < cond.num_unknowns(); k += 7) {
+      Eigen::VectorXd xp = b.x, xm = b.x;
+      xp[k] += h;
+      xm[k] -= h;
+      HbmEvaluation ep, em;
+      cond.Evaluate(xp, kTwoPi * f, alpha, HbmRequest{}, &ep);
+      cond.Evaluate(xm, kTwoPi * f, alpha, HbmRequest{}, &em);
+      EXPECT_LE(((ep.residual - em.residual) / (2 * h) - j.jacobian.col(k)).norm(),
+                1e-5 * std::max(j.jacobian.col(k).norm(), cond.ResidualScale()))
+          << "column " << k << " at " << f << " Hz";
+    }
+    for (int c : {0, 5, 23}) {  // ∂R/∂α against central differences
+      Eigen::VectorXd ap = alpha, am = alpha;
+      ap[c] += 1e-6;
+      am[c] -= 1e-6;
+      HbmEvaluation ep, em;
+      cond.Evaluate(b.x, kTwoPi * f, ap, HbmRequest{}, &ep);
+      cond.Evaluate(b.x, kTwoPi * f, am, HbmRequest{}, &em);
+      EXPECT_LE(((ep.residual - em.residual) / 2e-6 - j.alpha_jacobian.col(c)).norm(),
+                1e-5 * std::max(j.alpha_jacobian.col(c).norm(), cond.ResidualScale()))
+          << "alpha " << c << " at " << f << " Hz";
+    }
+  }
+}
+
 TEST(Condensed, FiftyPairAssemblyMatchesTheFullBalance) {
   const Model model = testing::ContactStrip(50);
   const HbmOptions opt{1, 64};
