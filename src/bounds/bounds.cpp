@@ -537,7 +537,10 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   Eigen::VectorXd x = x0, a = a0, g;
   double phi = 0.0;
   dense::Lu lu, lu_new;
-  std::vector<ContactRegime> regimes = Regimes(sys, x, s.omega, a), regimes_new;
+  // Chord steps pay off where an LU is dear; small (lumped) systems keep plain Newton.
+  const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
+  std::vector<ContactRegime> regimes, regimes_new;
+  if (chord) regimes = Regimes(sys, x, s.omega, a);
   auto finish = [&](BoundStatus status, const std::string& message) {
     out.x = x;
     out.alpha = a;
@@ -575,7 +578,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
       const HbmAtFrequency at(sys, s.omega, a_new);
       bool solved = false;
       x_new = x;
-      if (ChordSolve(at, lu, newton, &x_new)) {
+      if (chord && ChordSolve(at, lu, newton, &x_new)) {
         regimes_new = Regimes(sys, x_new, s.omega, a_new);
         solved =
             regimes_new == regimes && value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new);
@@ -600,7 +603,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     g = g_new;
     phi = phi_new;
     std::swap(lu, lu_new);
-    regimes = regimes_new.empty() ? Regimes(sys, x, s.omega, a) : regimes_new;
+    if (chord) regimes = regimes_new.empty() ? Regimes(sys, x, s.omega, a) : regimes_new;
     quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
     if (quiet >= 3) {
       return finish(BoundStatus::kConverged, "reduced space: objective stationary");
