@@ -187,7 +187,8 @@ struct DesignCommands::State {
     fs::create_directories(d);
     return d;
   }
-  bool ShowProgress() const { return !quiet && !as_json && isatty(STDERR_FILENO); }
+  // On a terminal only (JSON goes to stdout, so --json does not silence it).
+  bool ShowProgress() const { return !quiet && isatty(STDERR_FILENO); }
 
   // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
   double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
