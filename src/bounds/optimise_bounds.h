@@ -9,7 +9,8 @@
 namespace fricrom {
 
 // Bounds from the given α seeds only (no sample check); options must be valid, seeds non-empty.
-BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
+                            const BoundsOptions& options,
                             const std::vector<Eigen::VectorXd>& seeds);
 
 }  // namespace fricrom

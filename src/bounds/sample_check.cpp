@@ -54,8 +54,8 @@ struct SampleCandidates {
 };
 
 // Solves at check_samples random α; keeps the sample furthest below y_min and above y_max.
-SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
-                             BoundsResult* result) {
+SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
+                             const BoundsOptions& options, BoundsResult* result) {
   const int nc = system.num_alpha();
   const double omega = kTwoPi * freq_hz;
   std::mt19937 rng(options.sample_seed);
@@ -93,7 +93,8 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz, cons
 
 }  // namespace
 
-BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options) {
+BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
+                           const BoundsOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {

@@ -1,0 +1,118 @@
+// Shared pieces of the bound runs (bound_runs.h): objective, KKT test at the start, description
+// of a returned point, start solutions.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "bound_runs.h"
+#include "fricrom/frf.h"
+#include "fricrom/solve.h"
+#include "fricrom/units.h"
+#include "linear/dense_lapack.h"
+
+namespace fricrom::bounds_detail {
+namespace {
+
+double ResidualNorm(const HarmonicBalance& sys, const Eigen::VectorXd& x, double omega,
+                    const Eigen::VectorXd& alpha) {
+  HbmEvaluation e;
+  sys.Evaluate(x, omega, alpha, HbmRequest{}, &e);
+  return e.residual.norm() / sys.ResidualScale();
+}
+
+}  // namespace
+
+// The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,
+// when grad_x is given, its gradient in the unscaled variables. `e` must hold R at (x, α) for the
+// loss factor, and the Jacobians as well for its gradient.
+double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
+                 const HbmEvaluation& e, Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha) {
+  const HarmonicBalance& sys = *s.system;
+  const double factor = s.sign / s.objective_scale;
+  if (s.objective == BoundsOptions::kAmplitude) {
+    if (grad_x != nullptr) {
+      *grad_x = factor * sys.AmplitudeSquaredGradient(x);
+      grad_alpha->setZero(sys.num_alpha());
+    }
+    const double y = sys.Amplitude(x);
+    return factor * y * y;
+  }
+  const double eta = sys.LossFactor(x, s.omega, alpha, e, grad_x, grad_alpha);
+  if (grad_x != nullptr) {
+    *grad_x *= factor;
+    *grad_alpha *= factor;
+  }
+  return factor * eta;
+}
+
+// Whether the (feasible) start already satisfies the first-order optimality conditions: the
+// reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ (∂R/∂x)⁻ᵀ ∂φ/∂x vanishes (to `tolerance`) in every free
+// α direction and points out of the box at an active bound. This is typical on the plateaus of
+// the response over α (contacts that slip or whose first-period force saturates forget α), where
+// the interior-point method would only spend its iterations driving the barrier to zero.
+bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
+                     double tolerance) {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = req.alpha_jacobian = true;
+  s.system->Evaluate(x0, s.omega, alpha0, req, &e);
+  Eigen::VectorXd gx, ga;
+  Objective(s, x0, alpha0, e, &gx, &ga);
+  dense::Lu lu;
+  lu.ComputeTransposed(e.jacobian);
+  if (!(lu.rcond() > 1e-12)) return false;
+  const Eigen::VectorXd lambda = lu.Solve(gx);
+  const Eigen::VectorXd g = ga - e.alpha_jacobian.transpose() * lambda;
+  if (!g.allFinite()) return false;
+  for (int c = 0; c < g.size(); ++c) {
+    const bool at_upper = alpha0[c] >= 1.0, at_lower = alpha0[c] <= -1.0;
+    // Minimising: at the upper bound the gradient may be negative, at the lower one positive.
+    const bool ok = at_upper ? g[c] <= tolerance
+                             : (at_lower ? g[c] >= -tolerance : std::abs(g[c]) <= tolerance);
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
+                                   double omega, const Eigen::VectorXd& alpha) {
+  std::vector<ContactRegime> out;
+  for (const ContactHistory& h : sys.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
+  return out;
+}
+
+// Fills the derived fields of a solution (x, α set).
+void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s) {
+  s->amplitude = sys.Amplitude(s->x);
+  s->residual = ResidualNorm(sys, s->x, omega, s->alpha);
+  s->loss_factor = sys.Energies(s->x, omega, s->alpha).loss_factor();
+  s->regimes = Regimes(sys, s->x, omega, s->alpha);
+}
+
+// A converged harmonic-balance solution at α to start from: SolveAtFrequencies at f, then
+// Newton from the other seeds' starts, then SolveAtFrequencies on a ramp up to f (its
+// continuation fallback follows the branch).
+bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
+                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x) {
+  const FrfOptions frf;
+  std::vector<FrfPoint> pts = SolveAtFrequencies(sys, alpha, {freq_hz}, frf);
+  if (pts.back().status == SolverStatus::kConverged) {
+    *x = pts.back().x;
+    return true;
+  }
+  const HbmAtFrequency at(sys, kTwoPi * freq_hz, alpha);
+  for (auto it = other_starts.rbegin(); it != other_starts.rend(); ++it) {
+    *x = *it;
+    if (SolveNewton(at, frf.newton, x).IsSolutionUsable()) return true;
+  }
+  std::vector<double> ramp;
+  for (int k = 10; k >= 0; --k) ramp.push_back(freq_hz * (1.0 - 0.005 * k));
+  pts = SolveAtFrequencies(sys, alpha, ramp, frf);
+  if (pts.back().status == SolverStatus::kConverged) {
+    *x = pts.back().x;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace fricrom::bounds_detail

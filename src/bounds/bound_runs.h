@@ -1,0 +1,69 @@
+// Private to src/bounds: what the bound driver (bounds.cpp), the reduced-space method
+// (reduced_bounds.cpp) and the Ipopt method (ipopt_bounds.cpp) share: the setup of one run,
+// its objective, the description of a returned point, and the two optimisers.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "fricrom/bounds.h"
+#include "fricrom/harmonic_balance.h"
+
+namespace fricrom::bounds_detail {
+
+// A returned point counts as a solution only if ‖R‖ ≤ kFeasibility · ResidualScale().
+inline constexpr double kFeasibility = 1e-6;
+
+struct RunSetup {
+  const HarmonicBalance* system = nullptr;
+  double omega = 0.0;
+  BoundsOptions::Objective objective = BoundsOptions::kAmplitude;
+  double sign = 1.0;              // +1 minimises the objective, −1 maximises it
+  double objective_scale = 1.0;   // objective divided by this
+  double stall_tolerance = 1e-9;  // relative objective change that counts as no change
+  Eigen::VectorXd x_scale;        // x = x_scale ∘ z
+  double residual_scale = 1.0;    // constraints g = R / residual_scale
+};
+
+// The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,
+// when grad_x is given, its gradient in the unscaled variables. `e` must hold R at (x, α) for the
+// loss factor, and the Jacobians as well for its gradient.
+double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
+                 const HbmEvaluation& e, Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha);
+
+// Whether the feasible start (x0, α0) already satisfies the first-order conditions on the box.
+bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
+                     double tolerance);
+
+std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
+                                   double omega, const Eigen::VectorXd& alpha);
+
+// Fills the derived fields of a solution (x, α set).
+void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
+
+// A converged harmonic-balance solution at α to start from (see bound_common.cpp).
+bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
+                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x);
+
+// Reduced-space run over α (reduced_bounds.cpp).
+BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                         int seed, int max_iterations, double tolerance);
+
+// Full-space runs over [x, α] by Ipopt (ipopt_bounds.cpp); one application and NLP reused over
+// the runs of a bound computation. Ipopt's types stay in that file.
+class IpoptBounds {
+ public:
+  IpoptBounds(const HarmonicBalance& system, const BoundsOptions& options);  // throws on failure
+  ~IpoptBounds();
+  IpoptBounds(const IpoptBounds&) = delete;
+  IpoptBounds& operator=(const IpoptBounds&) = delete;
+  BoundSolution Run(const RunSetup& setup, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
+                    int seed);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fricrom::bounds_detail

@@ -1,0 +1,146 @@
+// Reduced-space bound runs: projected gradient over α with Newton (or chord) solves of R = 0
+// and the adjoint reduced gradient.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bound_runs.h"
+#include "fricrom/frf.h"
+#include "fricrom/solve.h"
+#include "linear/dense_lapack.h"
+
+namespace fricrom::bounds_detail {
+namespace {
+
+// Chord iterations x ← x − J₀⁻¹ R(x) with the factorised transpose J₀ᵀ of the last accepted
+// point. Where no contact changes state between the two α the balance is linear in x (stick) or
+// nearly so, and one or two steps converge without a new factorisation. On success x solves
+// R = 0 to Newton's tolerance; on failure x is left as the best iterate (a warm start).
+bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const NewtonOptions& o,
+                Eigen::VectorXd* x) {
+  constexpr int kChordSteps = 4;
+  const double scale = at.ResidualScale();
+  Eigen::VectorXd r, x_trial, r_trial;
+  at.Evaluate(*x, &r, nullptr);
+  double norm = r.norm() / scale;
+  for (int k = 0; k < kChordSteps && std::isfinite(norm); ++k) {
+    if (norm <= o.residual_tolerance) return true;
+    x_trial = *x - lu_transposed.Solve(r, true);
+    at.Evaluate(x_trial, &r_trial, nullptr);
+    const double trial = r_trial.norm() / scale;
+    if (!(trial < 0.25 * norm)) return false;  // too slow a contraction: Newton takes over
+    x->swap(x_trial);
+    r.swap(r_trial);
+    norm = trial;
+  }
+  return norm <= o.residual_tolerance;
+}
+
+}  // namespace
+
+// Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
+// the α box; x(α) from Newton warm-started at the last iterate, so every iterate satisfies R = 0,
+// and the reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
+BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                         int seed, int max_iterations, double tolerance) {
+  const HarmonicBalance& sys = *s.system;
+  BoundSolution out;
+  out.seed = seed;
+  // φ and the reduced gradient at a solution (x, a); `lu` keeps the factorised (∂R/∂x)ᵀ.
+  auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
+                                Eigen::VectorXd* g, dense::Lu* lu) {
+    HbmEvaluation e;
+    HbmRequest req;
+    req.jacobian = req.alpha_jacobian = true;
+    sys.Evaluate(x, s.omega, a, req, &e);
+    Eigen::VectorXd gx, ga;
+    *phi = Objective(s, x, a, e, &gx, &ga);
+    lu->ComputeTransposed(e.jacobian);
+    if (!(lu->rcond() > 1e-14)) return false;
+    *g = ga - e.alpha_jacobian.transpose() * lu->Solve(gx);
+    return g->allFinite();
+  };
+  Eigen::VectorXd x = x0, a = a0, g;
+  double phi = 0.0;
+  dense::Lu lu, lu_new;
+  // Chord steps pay off where an LU is dear; small (lumped) systems keep plain Newton.
+  const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
+  std::vector<ContactRegime> regimes, regimes_new;
+  if (chord) regimes = Regimes(sys, x, s.omega, a);
+  auto finish = [&](BoundStatus status, const std::string& message) {
+    out.x = x;
+    out.alpha = a;
+    out.status = status;
+    out.message = message;
+    Describe(sys, s.omega, &out);
+    if (out.status == BoundStatus::kConverged && !(out.residual <= kFeasibility)) {
+      out.status = BoundStatus::kFailed;
+      out.message += "; the point violates R = 0";
+    }
+    return out;
+  };
+  if (!value_and_gradient(x, a, &phi, &g, &lu)) {
+    return finish(BoundStatus::kFailed, "singular Jacobian at the start");
+  }
+  const NewtonOptions newton;
+  double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
+  int quiet = 0;
+  for (int it = 0; it < max_iterations; ++it) {
+    out.iterations = it;
+    // First-order conditions on the box: the projected gradient step vanishes.
+    const Eigen::VectorXd pg = (a - g).cwiseMax(-1.0).cwiseMin(1.0) - a;
+    if (pg.lpNorm<Eigen::Infinity>() <= tolerance) {
+      return finish(BoundStatus::kConverged, "reduced space: projected gradient vanishes (KKT)");
+    }
+    bool accepted = false;
+    Eigen::VectorXd a_new, x_new, g_new;
+    double phi_new = 0.0;
+    for (int bt = 0; bt < 40 && !accepted; ++bt, step *= 0.5) {
+      a_new = (a - step * g).cwiseMax(-1.0).cwiseMin(1.0);
+      if ((a_new - a).lpNorm<Eigen::Infinity>() <= 1e-14) break;
+      // x(α_new): chord steps with the last factorisation, kept only if every contact is in the
+      // regime it had at the last accepted point (a chord step can otherwise land on another
+      // branch, e.g. a lift-off the Newton path would not reach); else Newton.
+      const HbmAtFrequency at(sys, s.omega, a_new);
+      bool solved = false;
+      x_new = x;
+      if (chord && ChordSolve(at, lu, newton, &x_new)) {
+        regimes_new = Regimes(sys, x_new, s.omega, a_new);
+        solved =
+            regimes_new == regimes && value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new);
+      }
+      if (!solved) {
+        x_new = x;
+        if (!SolveNewton(at, newton, &x_new).IsSolutionUsable()) continue;
+        if (!value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new)) continue;
+        regimes_new.clear();
+      }
+      accepted = phi_new <= phi - 1e-4 * g.dot(a - a_new);
+    }
+    if (!accepted) {
+      return finish(BoundStatus::kConverged,
+                    "reduced space: no descent along the projected gradient (nonsmooth "
+                    "stationary point)");
+    }
+    const Eigen::VectorXd ds = a_new - a, dg = g_new - g;
+    const double change = std::abs(phi - phi_new);
+    x = x_new;
+    a = a_new;
+    g = g_new;
+    phi = phi_new;
+    std::swap(lu, lu_new);
+    if (chord) regimes = regimes_new.empty() ? Regimes(sys, x, s.omega, a) : regimes_new;
+    quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
+    if (quiet >= 3) {
+      return finish(BoundStatus::kConverged, "reduced space: objective stationary");
+    }
+    const double sy = ds.dot(dg);
+    step =
+        sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step;  // Barzilai-Borwein
+  }
+  return finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");
+}
+
+}  // namespace fricrom::bounds_detail
