@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -59,6 +60,9 @@ struct BoundsOptions {
   // BoundsResult::improved_by_samples). 0 switches the check off.
   int check_samples = 16;
   unsigned sample_seed = 20241;
+  // Progress inside one bound computation, on the caller's thread: (stage, done, total) with
+  // stage "seeds" (after each seed's min and max runs) and "samples" (after each check sample).
+  std::function<void(const std::string& stage, int done, int total)> progress;
 
   bool IsValid(std::string* error) const;
 };
@@ -121,6 +125,7 @@ struct BoundsResult {
 // Response bounds of `system` at freq_hz. Throws std::invalid_argument on invalid options, a
 // non-positive frequency, or seeds whose size differs from the number of contacts; numerical
 // failures are reported through the statuses.
-BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options);
+BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
+                           const BoundsOptions& options);
 
 }  // namespace fricrom

@@ -51,7 +51,8 @@ std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contact
                                                 " values (one per contact), got '" + item + "'");
     }
     for (double a : v) {
-      if (!(std::abs(a) <= 1.0)) throw CLI::ValidationError("--seeds", "values must lie in [-1, 1]");
+      if (!(std::abs(a) <= 1.0))
+        throw CLI::ValidationError("--seeds", "values must lie in [-1, 1]");
     }
     seeds.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()));
   }
@@ -62,11 +63,13 @@ struct Progress {
   bool enabled;
   std::string label;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-  void operator()(int done, int total) const {
+  void operator()(int done, int total) const { (*this)("", done, total); }
+  void operator()(const std::string& stage, int done, int total) const {
     if (!enabled) return;
-    std::cerr << "\r" << label << ": " << done;
+    std::cerr << "\r" << label << ": " << (stage.empty() ? "" : stage + " ") << done;
     if (total > 0) std::cerr << "/" << total;
-    std::cerr << "  (" << std::fixed << std::setprecision(1) << Seconds(t0) << " s)" << std::flush;
+    std::cerr << "  (" << std::fixed << std::setprecision(1) << Seconds(t0) << " s)   "
+              << std::flush;
   }
   void Done() const {
     if (enabled) std::cerr << "\n";
@@ -127,8 +130,7 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["mixed_configuration_at_min"] = MixedConfiguration(model, b.min.regimes);
   j["mixed_configuration_at_max"] = MixedConfiguration(model, b.max.regimes);
   j["R"] = Num(b.robustness());
-  j["status"] = b.IsUsable() ? "converged"
-                             : "min: " + Status(b.min) + ", max: " + Status(b.max);
+  j["status"] = b.IsUsable() ? "converged" : "min: " + Status(b.min) + ", max: " + Status(b.max);
   j["status_min"] = Status(b.min);
   j["status_max"] = Status(b.max);
   j["spread_min"] = b.spread_min;
@@ -151,10 +153,12 @@ BoundsOptions WarmSeeds(const BoundsOptions& base, int nc, const BoundsResult* p
 }
 
 void Plot(const std::string& script, const std::vector<std::string>& args) {
-  std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) + "/scripts/" + script + "'";
+  std::string cmd =
+      "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) + "/scripts/" + script + "'";
   for (const std::string& a : args) cmd += " '" + a + "'";
   cmd += " 1>&2";  // stdout is reserved for --json
-  if (std::system(cmd.c_str()) != 0) std::cerr << "fricrom: figure not written by " << script << "\n";
+  if (std::system(cmd.c_str()) != 0)
+    std::cerr << "fricrom: figure not written by " << script << "\n";
 }
 
 }  // namespace
@@ -178,7 +182,8 @@ struct DesignCommands::State {
     BoundsOptions o;
     if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
     if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
-    if (!FromString(method, &o.method)) throw CLI::ValidationError("--method", "unknown: " + method);
+    if (!FromString(method, &o.method))
+      throw CLI::ValidationError("--method", "unknown: " + method);
     o.check_samples = check_samples;
     return o;
   }
@@ -202,8 +207,8 @@ struct DesignCommands::State {
     const ResonanceResult r = FindResonance(system, rs, bo);
     *solves += r.bound_solves;
     if (!std::isfinite(r.freq_hz)) {
-      throw NotConverged("no maximum-response bound converged over " +
-                         std::to_string(rs.lo_hz) + "-" + std::to_string(rs.hi_hz) +
+      throw NotConverged("no maximum-response bound converged over " + std::to_string(rs.lo_hz) +
+                         "-" + std::to_string(rs.hi_hz) +
                          " Hz: no resonance to evaluate R at (give --freq)");
     }
     return r.freq_hz;
@@ -222,7 +227,8 @@ void DesignCommands::Register(CLI::App& app) {
   State& s = *state_;
   auto common = [&](CLI::App* cmd) {
     cmd->add_option("--seeds", s.seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
-    cmd->add_option("--objective", s.objective, "Bound objective: amplitude (default) or loss-factor")
+    cmd->add_option("--objective", s.objective,
+                    "Bound objective: amplitude (default) or loss-factor")
         ->check(CLI::IsMember({"amplitude", "loss-factor"}));
     cmd->add_option("--method", s.method,
                     "Bound optimiser: reduced (projected gradient over alpha, Newton + adjoint; "
@@ -238,9 +244,11 @@ void DesignCommands::Register(CLI::App& app) {
   s.bounds = app.add_subcommand("bounds", "Minimum and maximum response over alpha, R");
   s.bounds_case.Register(s.bounds);
   common(s.bounds);
-  s.bounds->add_option("--freq", s.freq, "Single frequency [Hz] (default: a curve over the case range)")
+  s.bounds
+      ->add_option("--freq", s.freq, "Single frequency [Hz] (default: a curve over the case range)")
       ->check(Positive());
-  s.bounds->add_option("--points", s.points, "Frequencies of the curve")->check(CLI::Range(2, 100000));
+  s.bounds->add_option("--points", s.points, "Frequencies of the curve")
+      ->check(CLI::Range(2, 100000));
   s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
 
   s.sweep = app.add_subcommand("sweep", "Robustness R over a design parameter (manual sweep)");
@@ -250,7 +258,9 @@ void DesignCommands::Register(CLI::App& app) {
   s.sweep->add_option("--from", s.from, "First value")->required();
   s.sweep->add_option("--to", s.to, "Last value")->required();
   s.sweep->add_option("--steps", s.steps, "Number of values")->check(CLI::Range(2, 100000));
-  s.sweep->add_option("--freq", s.freq, "Reference frequency [Hz] (default: peak of y_max at the first value)")
+  s.sweep
+      ->add_option("--freq", s.freq,
+                   "Reference frequency [Hz] (default: peak of y_max at the first value)")
       ->check(Positive());
   s.sweep->add_flag("--track-peak", s.track_peak, "Locate the resonance again at every value");
   s.sweep->add_flag("--plot", s.plot, "Draw R(p)");
@@ -263,13 +273,16 @@ void DesignCommands::Register(CLI::App& app) {
   s.noa->add_option("--to", s.to, "Upper end of the interval")->required();
   s.noa->add_option("--freq", s.freq, "Reference frequency [Hz] (default: peak of y_max at --from)")
       ->check(Positive());
-  s.noa->add_option("--noa-objective", s.noa_objective, "Outer objective: eta-gap (paper) or one-minus-r")
+  s.noa
+      ->add_option("--noa-objective", s.noa_objective,
+                   "Outer objective: eta-gap (paper) or one-minus-r")
       ->check(CLI::IsMember({"eta-gap", "one-minus-r"}));
   s.noa->add_option("--sweep-steps", s.sweep_steps, "Steps of the manual sweep run for comparison")
       ->check(CLI::Range(2, 100000));
   s.noa->add_flag("--no-sweep", s.no_sweep, "Skip the manual-sweep cost comparison");
 
-  s.verify = app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
+  s.verify =
+      app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
   s.verify_case.Register(s.verify);
   common(s.verify);
   s.verify->add_option("--freq", s.freq, "Frequency [Hz]")->required()->check(Positive());
@@ -309,7 +322,16 @@ int DesignCommands::State::RunBounds() {
   Progress progress{ShowProgress(), "bounds"};
   std::vector<BoundsResult> results;
   for (double f : freqs) {
-    const BoundsOptions bo = WarmSeeds(base, system.num_alpha(), results.empty() ? nullptr : &results.back());
+    BoundsOptions bo =
+        WarmSeeds(base, system.num_alpha(), results.empty() ? nullptr : &results.back());
+    if (progress.enabled) {  // inside a frequency: "bounds 1000 Hz: seeds 3/5 (12.1 s)"
+      std::ostringstream label;
+      label << "bounds " << f << " Hz";
+      const Progress inner{true, label.str(), progress.t0};
+      bo.progress = [inner](const std::string& stage, int done, int total) {
+        inner(stage, done, total);
+      };
+    }
     results.push_back(ComputeBounds(system, f, bo));
     progress(static_cast<int>(results.size()), static_cast<int>(freqs.size()));
   }
@@ -317,7 +339,9 @@ int DesignCommands::State::RunBounds() {
   // Resonance: the peak of the maximum-response curve (none if no maximum converged).
   int peak = -1;
   for (int i = 0; i < static_cast<int>(results.size()); ++i) {
-    if (results[i].max.IsUsable() && (peak < 0 || results[i].max.amplitude > results[peak].max.amplitude)) peak = i;
+    if (results[i].max.IsUsable() &&
+        (peak < 0 || results[i].max.amplitude > results[peak].max.amplitude))
+      peak = i;
   }
   const bool have_peak = peak >= 0;
   if (!have_peak) peak = 0;  // describe the first point, whose values are NaN
@@ -347,8 +371,10 @@ int DesignCommands::State::RunBounds() {
       if (b.min.alpha.size() == nc) amin.row(i) = b.min.alpha.transpose();
       if (b.max.alpha.size() == nc) amax.row(i) = b.max.alpha.transpose();
       for (int k = 0; k < nc; ++k) {
-        rmin.push_back(k < static_cast<int>(b.min.regimes.size()) ? ToString(b.min.regimes[k]) : "unknown");
-        rmax.push_back(k < static_cast<int>(b.max.regimes.size()) ? ToString(b.max.regimes[k]) : "unknown");
+        rmin.push_back(k < static_cast<int>(b.min.regimes.size()) ? ToString(b.min.regimes[k])
+                                                                  : "unknown");
+        rmax.push_back(k < static_cast<int>(b.max.regimes.size()) ? ToString(b.max.regimes[k])
+                                                                  : "unknown");
       }
     }
     h5.Vector("bounds/freq_hz", f);
@@ -368,11 +394,14 @@ int DesignCommands::State::RunBounds() {
     h5.Attribute("bounds", "wall_s", wall);
     std::vector<double> lf;
     for (int i = 0; i < 400; ++i) {
-      lf.push_back(c.analysis.freq_min_hz + (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
+      lf.push_back(c.analysis.freq_min_hz +
+                   (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
     }
     h5.Vector("linear/freq_hz", lf);
-    h5.Vector("linear/free_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
-    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance));
+    h5.Vector("linear/free_amplitude_m",
+              LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
+    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick,
+                                                                  lf, c.analysis.receptance));
     h5.Strings("histories/contacts", c.contact_names);
     std::vector<double> mu;
     for (const Contact& ct : c.model.contacts) mu.push_back(ct.mu);
@@ -384,7 +413,8 @@ int DesignCommands::State::RunBounds() {
   {
     std::ostringstream csv;
     csv << "# fricrom " << Version() << " bounds of " << c.name << "; units: Hz, m\n";
-    csv << "freq_hz,y_min_m,y_max_m,eta_min,eta_max,R,status_min,status_max\n" << std::setprecision(12);
+    csv << "freq_hz,y_min_m,y_max_m,eta_min,eta_max,R,status_min,status_max\n"
+        << std::setprecision(12);
     for (const BoundsResult& b : results) {
       csv << b.freq_hz << "," << b.min.amplitude << "," << b.max.amplitude << ","
           << b.max.loss_factor << "," << b.min.loss_factor << "," << b.robustness() << ","
@@ -412,7 +442,8 @@ int DesignCommands::State::RunBounds() {
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
     std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
-              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall << " s\n";
+              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall
+              << " s\n";
     std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
               << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
     std::cout << "  states at min:";
@@ -439,7 +470,9 @@ int DesignCommands::State::RunSweep() {
   if (!track_peak) so.reference_freq_hz = ReferenceFrequency(c0, bo, &solves);
   std::vector<double> values;
   for (int i = 0; i < steps; ++i) values.push_back(from + (to - from) * i / (steps - 1));
-  const BalanceFactory factory = [&](double p) { return MakeCaseBalance(sweep_case.Load({{param, p}})); };
+  const BalanceFactory factory = [&](double p) {
+    return MakeCaseBalance(sweep_case.Load({{param, p}}));
+  };
   Progress progress{ShowProgress(), "sweep " + param};
   const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, so, progress);
   progress.Done();
@@ -484,7 +517,8 @@ int DesignCommands::State::RunSweep() {
   }
   {
     std::ostringstream csv;
-    csv << "# fricrom " << Version() << " sweep of " << param << " on " << c0.name << "; units: -, Hz, m\n";
+    csv << "# fricrom " << Version() << " sweep of " << param << " on " << c0.name
+        << "; units: -, Hz, m\n";
     csv << param << ",R,freq_hz,y_min_m,y_max_m,eta_min,eta_max,status\n" << std::setprecision(12);
     for (size_t i = 0; i < pts.size(); ++i) {
       csv << values[i] << "," << r[i] << "," << fr[i] << "," << ymin[i] << "," << ymax[i] << ","
@@ -517,9 +551,11 @@ int DesignCommands::State::RunSweep() {
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
     std::cout << "Robustness over " << param << " in [" << from << ", " << to << "], " << steps
-              << " values, " << (track_peak ? std::string("at the peak of y_max")
-                                            : "at " + std::to_string(so.reference_freq_hz) + " Hz")
-              << ": " << std::setprecision(3) << wall << " s, " << solves << " inner bound solves\n";
+              << " values, "
+              << (track_peak ? std::string("at the peak of y_max")
+                             : "at " + std::to_string(so.reference_freq_hz) + " Hz")
+              << ": " << std::setprecision(3) << wall << " s, " << solves
+              << " inner bound solves\n";
     for (size_t i = 0; i < pts.size(); ++i) {
       std::cout << "  " << param << " = " << std::setw(8) << values[i] << "  R = " << r[i] << "\n";
     }
@@ -537,10 +573,13 @@ int DesignCommands::State::RunNoa() {
   NoaOptions no;
   no.lower = from;
   no.upper = to;
-  no.objective = noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
+  no.objective =
+      noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
   no.inner.bounds = bo;
   no.inner.reference_freq_hz = ReferenceFrequency(c0, bo, &ref_solves);
-  const BalanceFactory factory = [&](double p) { return MakeCaseBalance(noa_case.Load({{param, p}})); };
+  const BalanceFactory factory = [&](double p) {
+    return MakeCaseBalance(noa_case.Load({{param, p}}));
+  };
   Progress progress{ShowProgress(), "noa " + param};
   const NoaResult res = fricrom::RunNoa(factory, no, progress);
   progress.Done();
@@ -549,15 +588,19 @@ int DesignCommands::State::RunNoa() {
   if (!no_sweep) {
     const auto ts = std::chrono::steady_clock::now();
     std::vector<double> values;
-    for (int i = 0; i < sweep_steps; ++i) values.push_back(from + (to - from) * i / (sweep_steps - 1));
+    for (int i = 0; i < sweep_steps; ++i)
+      values.push_back(from + (to - from) * i / (sweep_steps - 1));
     const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, no.inner);
     int best = 0, solves = 0;
     for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
       solves += 2 * pts[i].bound_solves;
       if (pts[i].robustness > pts[best].robustness) best = i;
     }
-    sweep_json = {{"steps", sweep_steps}, {"wall_s", Seconds(ts)}, {"inner_solves", solves},
-                  {"p_best", pts[best].parameter}, {"R_best", Num(pts[best].robustness)}};
+    sweep_json = {{"steps", sweep_steps},
+                  {"wall_s", Seconds(ts)},
+                  {"inner_solves", solves},
+                  {"p_best", pts[best].parameter},
+                  {"R_best", Num(pts[best].robustness)}};
   }
   const fs::path dir = OutDir(c0, "noa_" + param);
   json j;
@@ -576,7 +619,8 @@ int DesignCommands::State::RunNoa() {
   j["converged"] = res.converged;
   j["message"] = res.message;
   json hist = json::array();
-  for (const RobustnessPoint& h : res.history) hist.push_back({{"p", h.parameter}, {"R", Num(h.robustness)}});
+  for (const RobustnessPoint& h : res.history)
+    hist.push_back({{"p", h.parameter}, {"R", Num(h.robustness)}});
   j["history"] = hist;
   j["manual_sweep"] = sweep_json;
   j["total_wall_s"] = wall;
@@ -584,7 +628,8 @@ int DesignCommands::State::RunNoa() {
   if (as_json) {
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
-    std::cout << res.BriefReport() << "\n  reference frequency " << no.inner.reference_freq_hz << " Hz\n";
+    std::cout << res.BriefReport() << "\n  reference frequency " << no.inner.reference_freq_hz
+              << " Hz\n";
     if (!sweep_json.is_null()) {
       std::cout << "  manual sweep of the same range: " << sweep_json.dump() << "\n";
     }
@@ -626,38 +671,46 @@ int DesignCommands::State::RunVerify() {
     }
     smin = std::isnan(smin) ? p.amplitude : std::min(smin, p.amplitude);
     smax = std::isnan(smax) ? p.amplitude : std::max(smax, p.amplitude);
-    if (p.amplitude < lo * (1 - tol) || p.amplitude > hi * (1 + tol)) ++outside;
-    else ++inside;
+    if (p.amplitude < lo * (1 - tol) || p.amplitude > hi * (1 + tol))
+      ++outside;
+    else
+      ++inside;
   }
   // b) time integration from different initial static states.
   json runs = json::array();
   int ti_outside = 0;
   for (int i = 0; i < ti_runs; ++i) {
     Eigen::VectorXd a(nc);
-    for (int k = 0; k < nc; ++k) a[k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
+    for (int k = 0; k < nc; ++k)
+      a[k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
     TimeIntegrationOptions to;
     to.freq_hz = freq;
     const TimeIntegrationResult r = IntegrateToSteadyState(c.model, a, to);
     // Harmonic truncation (H) separates the two routes by up to ~1e-3 here; 2 % margin.
     const bool in = r.amplitude >= lo * 0.98 && r.amplitude <= hi * 1.02;
     if (r.status == TimeIntegrationResult::Status::kSteadyState && !in) ++ti_outside;
-    runs.push_back({{"initial_alpha", ToStd(a)}, {"status", ToString(r.status)},
-                    {"amplitude", Num(r.amplitude)}, {"periods", r.periods}, {"inside", in},
+    runs.push_back({{"initial_alpha", ToStd(a)},
+                    {"status", ToString(r.status)},
+                    {"amplitude", Num(r.amplitude)},
+                    {"periods", r.periods},
+                    {"inside", in},
                     {"states", RegimeNames(r.regimes)}});
   }
   int ti_unsteady = 0;
-  for (const json& r : runs) ti_unsteady += r["status"] != ToString(TimeIntegrationResult::Status::kSteadyState);
-  const std::vector<std::string> reasons = CertificationGaps(
-      {samples, failed, outside, ti_runs, ti_unsteady, ti_outside});
+  for (const json& r : runs)
+    ti_unsteady += r["status"] != ToString(TimeIntegrationResult::Status::kSteadyState);
+  const std::vector<std::string> reasons =
+      CertificationGaps({samples, failed, outside, ti_runs, ti_unsteady, ti_outside});
   const bool certified = reasons.empty();
   json j;
   j["freq_hz"] = freq;
   j["y_min"] = Num(lo);
   j["y_max"] = Num(hi);
-  j["sampling"] = {{"samples", samples}, {"converged", samples - failed}, {"failed", failed},
-                   {"failed_share", static_cast<double>(failed) / samples},
-                   {"inside", inside}, {"outside", outside},
-                   {"sampled_min", Num(smin)}, {"sampled_max", Num(smax)}};
+  j["sampling"] = {
+      {"samples", samples},       {"converged", samples - failed},
+      {"failed", failed},         {"failed_share", static_cast<double>(failed) / samples},
+      {"inside", inside},         {"outside", outside},
+      {"sampled_min", Num(smin)}, {"sampled_max", Num(smax)}};
   j["time_integration"] = runs;
   j["time_integration_outside"] = ti_outside;
   j["time_integration_unsteady"] = ti_unsteady;
@@ -667,7 +720,8 @@ int DesignCommands::State::RunVerify() {
   if (as_json) {
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
-    std::cout << "Certification of the bounds at " << freq << " Hz: [" << lo << ", " << hi << "] m\n"
+    std::cout << "Certification of the bounds at " << freq << " Hz: [" << lo << ", " << hi
+              << "] m\n"
               << "  alpha sampling: " << samples - failed << "/" << samples << " solved, "
               << outside << " outside the bounds, sampled range [" << smin << ", " << smax << "]\n";
     for (const json& r : runs) std::cout << "  time integration: " << r.dump() << "\n";

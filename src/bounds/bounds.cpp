@@ -207,7 +207,9 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   std::vector<Eigen::VectorXd> starts;
   bool have_min = false, have_max = false;
   double min_lo = 0, min_hi = 0, max_lo = 0, max_hi = 0;
-  for (int s = 0; s < static_cast<int>(seeds.size()); ++s) {
+  const int num_seeds = static_cast<int>(seeds.size());
+  for (int s = 0; s < num_seeds; ++s) {
+    if (options.progress && s > 0) options.progress("seeds", s, num_seeds);
     Eigen::VectorXd x0;
     if (!StartSolution(system, freq_hz, seeds[s], starts, &x0)) {
       ++result.start_failures;
@@ -280,6 +282,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     }
     if (both) ++result.seeds_converged;
   }
+  if (options.progress) options.progress("seeds", num_seeds, num_seeds);
   result.spread_min = have_min ? min_hi - min_lo : std::numeric_limits<double>::quiet_NaN();
   result.spread_max = have_max ? max_hi - max_lo : std::numeric_limits<double>::quiet_NaN();
   for (BoundSolution* b : {&result.min, &result.max}) {

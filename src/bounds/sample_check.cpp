@@ -69,6 +69,7 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
     for (int k = 0; k < nc; ++k) a[k] = u(rng);
     const FrfPoint p = SolveAtFrequency(system, a, freq_hz, warm, FrfOptions{});
     ++result->samples_checked;
+    if (options.progress) options.progress("samples", i + 1, options.check_samples);
     if (p.status != SolverStatus::kConverged) {
       ++result->samples_failed;
       continue;

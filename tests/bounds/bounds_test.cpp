@@ -10,6 +10,8 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "fricrom/frf.h"
 #include "fricrom/hbm.h"
@@ -135,6 +137,23 @@ TEST(Bounds, BaselineHasAScatterNearResonance) {
       << "min: " << Regimes(r.min.regimes) << "; max: " << Regimes(r.max.regimes);
   RecordProperty("compute_bounds_ms", std::to_string(ms));
   std::printf("[bounds] %s\n[bounds] ComputeBounds took %.2f ms\n", r.BriefReport().c_str(), ms);
+}
+
+TEST(Bounds, ProgressCountsSeedsAndSamplesUpToTheirTotals) {
+  BoundsOptions o;
+  std::vector<std::pair<int, int>> seeds, samples;
+  o.progress = [&](const std::string& stage, int done, int total) {
+    (stage == "seeds" ? seeds : samples).emplace_back(done, total);
+  };
+  const BoundsResult r = ComputeBounds(Baseline(), 266.0, o);
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  ASSERT_FALSE(seeds.empty());
+  EXPECT_EQ(seeds.front(), std::make_pair(1, 5));  // after the first of the 5 default seeds
+  EXPECT_EQ(seeds[4], std::make_pair(5, 5));
+  ASSERT_EQ(static_cast<int>(samples.size()), o.check_samples);
+  for (int i = 0; i < o.check_samples; ++i) {
+    EXPECT_EQ(samples[i], std::make_pair(i + 1, o.check_samples));
+  }
 }
 
 // At 262 Hz every contact sticks over the whole period (type b1): α moves the static state only
