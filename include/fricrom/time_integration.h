@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -51,7 +52,9 @@ struct TimeIntegrationResult {
   };
   Status status = Status::kNotSettled;
   std::string message;
-  double amplitude = 0.0;  // first harmonic of the response DOF over the last period [m]
+  // First harmonic of the response DOF over the last period [m]; NaN when no period was
+  // integrated (unstable step, failed static state): a failed run is never a number.
+  double amplitude = std::numeric_limits<double>::quiet_NaN();
   int periods = 0;         // periods integrated (ramp included)
   int steps = 0;
   double relative_change = 0.0;          // last block-to-block amplitude change / amplitude

@@ -691,6 +691,7 @@ int DesignCommands::State::RunVerify() {
     if (r.status == TimeIntegrationResult::Status::kSteadyState && !in) ++ti_outside;
     runs.push_back({{"initial_alpha", ToStd(a)},
                     {"status", ToString(r.status)},
+                    {"message", r.message},
                     {"amplitude", Num(r.amplitude)},
                     {"periods", r.periods},
                     {"inside", in},

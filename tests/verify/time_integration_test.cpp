@@ -172,6 +172,20 @@ TEST(TimeIntegration, StaticStateHonoursTheInitialAlpha) {
   EXPECT_LT(residual.norm(), 1e-9 * 150.0);
 }
 
+TEST(TimeIntegration, UnstableStepIsReportedWithoutANumber) {
+  // 8 steps per period at 20 Hz is far beyond the central-difference limit of the baseline's
+  // full-stick system: no period is integrated, and the amplitude is NaN, never 0.
+  TimeIntegrationOptions o;
+  o.freq_hz = 20.0;
+  o.steps_per_period = 8;
+  const Model m = testing::LoadBaseline().model;
+  const TimeIntegrationResult r =
+      IntegrateToSteadyState(m, Eigen::VectorXd::Zero(static_cast<int>(m.contacts.size())), o);
+  EXPECT_EQ(r.status, TimeIntegrationResult::Status::kUnstable);
+  EXPECT_TRUE(std::isnan(r.amplitude));
+  EXPECT_NE(r.message.find("steps per period"), std::string::npos) << r.message;
+}
+
 TEST(TimeIntegration, MisuseThrows) {
   const Model model = testing::JenkinsOscillator(1.0, 1e4, 1.0, 1e4, 1.0, 5.0, 8.0);
   EXPECT_THROW(IntegrateToSteadyState(model, Eigen::VectorXd::Zero(2), At(14.0)),
