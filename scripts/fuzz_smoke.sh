@@ -16,7 +16,7 @@ flags=(-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 # The FE readers only: the HDF5 writer/reader is not fed untrusted text and would need libhdf5.
 readers=()
 for f in src/io/*.cpp; do [[ $f == src/io/hdf5_file.cpp ]] || readers+=("$f"); done
-declare -A corpus=([op4]=tests/data/op4 [punch]="tests/data/dmig tests/data/extseout"
+declare -A corpus=([op4]="tests/data/op4 tests/fuzz/regressions/op4" [punch]="tests/data/dmig tests/data/extseout"
                    [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx
                    [inp_deck]="tests/data/calculix meshes/damper/coarse")
 for t in op4 punch abaqus calculix mtx inp_deck; do

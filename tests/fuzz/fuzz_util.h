@@ -103,8 +103,10 @@ inline void CheckCoordinatesAgree(const fricrom::FeModel& csc, const fricrom::Fe
 inline void CheckCuts(std::string_view whole, const fricrom::FeModel& full,
                       const std::function<fricrom::FeModel(std::string_view)>& read_cut,
                       bool line_end_ok) {
-  std::map<std::string, const fricrom::FeMatrix*> by_name;
-  for (const fricrom::FeMatrix& m : full.matrices) by_name[m.name] = &m;
+  // By name and occurrence: a file may hold two matrices of one name (an OP4 with two "R2"),
+  // and the k-th of a name in the cut must be the k-th of that name in the whole file.
+  std::map<std::string, std::vector<const fricrom::FeMatrix*>> by_name;
+  for (const fricrom::FeMatrix& m : full.matrices) by_name[m.name].push_back(&m);
   std::vector<size_t> cuts;
   const size_t step = whole.size() / 96 + 1;
   for (size_t off = 0; off < whole.size(); off += step) cuts.push_back(off);
@@ -120,9 +122,11 @@ inline void CheckCuts(std::string_view whole, const fricrom::FeModel& full,
     }
     CheckModel(cut);
     if (line_end_ok && off > 0 && whole[off - 1] == '\n') continue;
+    std::map<std::string, size_t> seen;
     for (const fricrom::FeMatrix& m : cut.matrices) {
       const auto it = by_name.find(m.name);
-      Check(it != by_name.end() && SameMatrix(m, *it->second),
+      const size_t k = seen[m.name]++;
+      Check(it != by_name.end() && k < it->second.size() && SameMatrix(m, *it->second[k]),
             "a truncated file read as a different matrix");
     }
   }
