@@ -217,6 +217,11 @@ void KeepOnly(const std::string& file, const FeReadOptions& options, FeModel& mo
          "no matrix '" + options.only_matrix +
              "' (the file holds: " + (names.empty() ? std::string("no matrices") : names) + ")");
   }
+  if (model.matrices.size() > 1) {  // e.g. an OP4 written with one datablock name twice
+    Fail(file, 0,
+         std::to_string(model.matrices.size()) + " matrices are named '" + options.only_matrix +
+             "': selecting by that name is ambiguous (the file holds: " + names + ")");
+  }
 }
 
 // Errors: an index out of range, an entry given twice, and, when `symmetric`, an off-diagonal

@@ -290,6 +290,26 @@ TEST(Op4Reader, SpotValuesFromHandParsedAsciiColumn) {
   EXPECT_NEAR(rb(6, 1), -406.2035008, 1e-7);
 }
 
+TEST(Op4Reader, TwoMatricesOfOneNameReadButCannotBeSelectedByIt) {
+  // The fuzz regression seed: an ASCII OP4 holding R2 (5 x 6), R2 (10 x 19) and R3.
+  const std::string path =
+      std::string(FRICROM_SOURCE_DIR) + "/tests/fuzz/regressions/op4/two_matrices_named_R2.op4";
+  const FeModel all = ReadOp4(path);
+  ASSERT_EQ(all.matrices.size(), 3u);
+  EXPECT_EQ(all.matrices[0].name, "R2");
+  EXPECT_EQ(all.matrices[1].name, "R2");
+  FeReadOptions only;
+  only.only_matrix = "R2";
+  try {
+    ReadOp4(path, only);
+    FAIL() << "expected FeReadError";
+  } catch (const FeReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("ambiguous"), std::string::npos) << e.what();
+  }
+  only.only_matrix = "R3";
+  EXPECT_EQ(ReadOp4(path, only).matrices.size(), 1u);
+}
+
 TEST(Op4Reader, RealDoubleAsciiSeveralMatrices) {
   const FeModel model = ReadOp4(Fixture("rd.op4"));
   ASSERT_EQ(model.matrices.size(), 3u);
