@@ -50,6 +50,12 @@ struct BoundsOptions {
   // α vectors the optimisations start from (one entry per contact, each in [−1, 1]). Empty: the
   // default set DefaultAlphaSeeds(num_contacts).
   std::vector<Eigen::VectorXd> alpha_seeds;
+  // Seeds added to those, so that their number grows with the interfaces, never as 2^nα:
+  // seed_groups[a] is the group (an FE interface) of α entry a; for each group g the two
+  // patterns "+1 on g, −1 elsewhere" and "−1 on g, +1 elsewhere". Empty: none.
+  std::vector<int> seed_groups;
+  // Random seeds, uniform in [−1, 1]^nα (generator seeded with sample_seed + 1).
+  int random_seeds = 0;
   Method method = kReducedSpace;
   int max_iterations = 200;  // optimiser iterations per run
   double tolerance = 1e-9;   // optimality tolerance of the scaled problem
@@ -75,6 +81,17 @@ bool FromString(const std::string& name, BoundsOptions::Method* method);
 // (duplicates removed). The alternating corners matter: on the lumped benchmark near resonance
 // the minimum response is only reached from one of them.
 std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts);
+
+// Where the seeds of a bound computation came from (BoundsResult::seed_counts).
+struct SeedCounts {
+  int base = 0;            // options.alpha_seeds, or the default set
+  int group_patterns = 0;  // two per seed group
+  int random = 0;
+};
+// Every seed of a computation with num_alpha α: base, group patterns, random (duplicates
+// removed). Throws std::invalid_argument when seed_groups has the wrong size or a negative entry.
+std::vector<Eigen::VectorXd> AlphaSeeds(int num_alpha, const BoundsOptions& options,
+                                        SeedCounts* counts = nullptr);
 
 enum class BoundStatus {
   kConverged,      // the optimiser met its tolerances and the point satisfies R = 0
@@ -106,6 +123,7 @@ struct BoundsResult {
   // η for kLossFactor): 0 when every seed reached the same optimum.
   double spread_min = 0.0, spread_max = 0.0;
   int seeds_tried = 0;
+  SeedCounts seed_counts;   // the first optimisation's seeds by origin
   int seeds_converged = 0;  // seeds whose start solve and both runs converged
   int start_failures = 0;   // seeds whose starting harmonic-balance solve failed (skipped)
   int min_failures = 0;     // runs that did not converge (never used as a bound)

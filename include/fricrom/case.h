@@ -46,6 +46,9 @@ struct Case {
   Model model;
   AnalysisSettings analysis;
   std::vector<std::string> contact_names;
+  // Interface (and tangential direction) of each solver α of an FE assembly, numbered from 0:
+  // the groups of BoundsOptions::seed_groups. Empty for lumped cases.
+  std::vector<int> alpha_interface;
   std::string resolved;  // the resolved case (parameters substituted) as TOML text
 };
 

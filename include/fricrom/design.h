@@ -30,11 +30,34 @@ struct ResonanceSearchOptions {
 };
 struct ResonanceResult {
   double freq_hz = 0.0;  // NaN when no maximum-response bound converged anywhere in the range
-  BoundsResult bounds;  // the bounds at freq_hz
+  BoundsResult bounds;   // the bounds at freq_hz
   int bound_solves = 0;
 };
 ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
                               const BoundsOptions& bounds);
+
+// Bound curve: the bounds at each frequency in order, each point warm-started with the previous
+// point's optimal α (added to its seeds), and the peak of the maximum-response bound.
+struct BoundCurveOptions {
+  BoundsOptions bounds;
+  bool warm_start = true;
+  // (stage, done, total): stage "frequencies" after each point, and each point's own stages
+  // prefixed by its frequency ("1000 Hz: seeds", "1000 Hz: samples").
+  std::function<void(const std::string& stage, int done, int total)> progress;
+  bool IsValid(std::string* error) const { return bounds.IsValid(error); }
+};
+struct BoundCurve {
+  std::vector<BoundsResult> points;  // one per frequency, in the given order
+  int peak = -1;                     // largest converged y_max; −1 when none converged
+  double wall_s = 0.0;
+  bool HasPeak() const { return peak >= 0; }
+  std::string BriefReport() const;
+};
+// `points` frequencies evenly spaced over [lo_hz, hi_hz] (both included; points >= 2).
+std::vector<double> EvenFrequencies(double lo_hz, double hi_hz, int points);
+// Throws std::invalid_argument on invalid options or a non-positive or non-finite frequency.
+BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+                             const BoundCurveOptions& options);
 
 struct RobustnessPoint {
   double parameter = 0.0;

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -138,18 +139,14 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["seeds_tried"] = b.seeds_tried;
   j["seeds_converged"] = b.seeds_converged;
   j["optimizer_runs"] = b.optimizer_runs;
+  j["seeds"] = {{"tried", b.seeds_tried},
+                {"base", b.seed_counts.base},
+                {"interface_patterns", b.seed_counts.group_patterns},
+                {"random", b.seed_counts.random}};
   j["samples_checked"] = b.samples_checked;
   j["samples_failed"] = b.samples_failed;
   j["improved_by_samples"] = b.improved_by_samples;
   return j;
-}
-
-BoundsOptions WarmSeeds(const BoundsOptions& base, int nc, const BoundsResult* prev) {
-  BoundsOptions o = base;
-  if (o.alpha_seeds.empty()) o.alpha_seeds = DefaultAlphaSeeds(nc);
-  if (prev && prev->min.IsUsable()) o.alpha_seeds.push_back(prev->min.alpha);
-  if (prev && prev->max.IsUsable()) o.alpha_seeds.push_back(prev->max.alpha);
-  return o;
 }
 
 void Plot(const std::string& script, const std::vector<std::string>& args) {
@@ -171,16 +168,27 @@ struct DesignCommands::State {
   CLI::App* verify = nullptr;
   // shared options
   std::string seeds, out, objective = "amplitude", method = "reduced";
-  int check_samples = BoundsOptions{}.check_samples;
+  int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
+  bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
   int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
   std::string param, noa_objective = "eta-gap";
   bool no_sweep = false;
 
-  BoundsOptions MakeBoundsOptions(int nc) const {
+  BoundsOptions MakeBoundsOptions(const Case& c) const {
+    const int nc = c.model.num_alpha();
     BoundsOptions o;
     if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
+    if (interface_seeds) {
+      // Lumped cases have no interfaces: each contact is its own group.
+      o.seed_groups = c.alpha_interface;
+      if (static_cast<int>(o.seed_groups.size()) != nc) {
+        o.seed_groups.resize(nc);
+        std::iota(o.seed_groups.begin(), o.seed_groups.end(), 0);
+      }
+    }
+    o.random_seeds = random_seeds;
     if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
     if (!FromString(method, &o.method))
       throw CLI::ValidationError("--method", "unknown: " + method);
@@ -234,6 +242,12 @@ void DesignCommands::Register(CLI::App& app) {
                     "Bound optimiser: reduced (projected gradient over alpha, Newton + adjoint; "
                     "default), ipopt (full space [x, alpha] with R = 0) or both (best of the two)")
         ->check(CLI::IsMember({"reduced", "ipopt", "both"}));
+    cmd->add_flag("--interface-seeds", s.interface_seeds,
+                  "Add two alpha seeds per contact interface (+1 on it and -1 elsewhere, and the "
+                  "opposite; per contact on lumped cases)");
+    cmd->add_option("--random-seeds", s.random_seeds,
+                    "Add this many random alpha seeds, uniform in [-1, 1] (fixed generator seed)")
+        ->check(CLI::Range(0, 100000));
     cmd->add_option("--check-samples", s.check_samples,
                     "Random alpha solves that check (and improve) each bound; 0: no check")
         ->check(CLI::Range(0, 1000000));
@@ -307,44 +321,25 @@ int DesignCommands::State::RunBounds() {
   const Case c = bounds_case.Load();
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
-  const BoundsOptions base = MakeBoundsOptions(system.num_alpha());
+  const BoundsOptions base = MakeBoundsOptions(c);
   std::string error;
   if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
-  std::vector<double> freqs;
-  if (freq > 0.0) {
-    freqs = {freq};
-  } else {
-    for (int i = 0; i < points; ++i) {
-      freqs.push_back(c.analysis.freq_min_hz +
-                      (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (points - 1));
-    }
-  }
+  const std::vector<double> freqs =
+      freq > 0.0 ? std::vector<double>{freq}
+                 : EvenFrequencies(c.analysis.freq_min_hz, c.analysis.freq_max_hz, points);
   Progress progress{ShowProgress(), "bounds"};
-  std::vector<BoundsResult> results;
-  for (double f : freqs) {
-    BoundsOptions bo =
-        WarmSeeds(base, system.num_alpha(), results.empty() ? nullptr : &results.back());
-    if (progress.enabled) {  // inside a frequency: "bounds 1000 Hz: seeds 3/5 (12.1 s)"
-      std::ostringstream label;
-      label << "bounds " << f << " Hz";
-      const Progress inner{true, label.str(), progress.t0};
-      bo.progress = [inner](const std::string& stage, int done, int total) {
-        inner(stage, done, total);
-      };
-    }
-    results.push_back(ComputeBounds(system, f, bo));
-    progress(static_cast<int>(results.size()), static_cast<int>(freqs.size()));
+  BoundCurveOptions co;
+  co.bounds = base;
+  if (progress.enabled) {
+    co.progress = [&progress](const std::string& stage, int done, int total) {
+      progress(stage, done, total);
+    };
   }
+  const BoundCurve curve = ComputeBoundCurve(system, freqs, co);
   progress.Done();
-  // Resonance: the peak of the maximum-response curve (none if no maximum converged).
-  int peak = -1;
-  for (int i = 0; i < static_cast<int>(results.size()); ++i) {
-    if (results[i].max.IsUsable() &&
-        (peak < 0 || results[i].max.amplitude > results[peak].max.amplitude))
-      peak = i;
-  }
-  const bool have_peak = peak >= 0;
-  if (!have_peak) peak = 0;  // describe the first point, whose values are NaN
+  const std::vector<BoundsResult>& results = curve.points;
+  const bool have_peak = curve.HasPeak();
+  const int peak = have_peak ? curve.peak : 0;  // else the first point, whose values are NaN
   const double wall = Seconds(t0);
 
   const fs::path dir = OutDir(c, "bounds");
@@ -459,7 +454,7 @@ int DesignCommands::State::RunBounds() {
 int DesignCommands::State::RunSweep() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c0 = sweep_case.Load({{param, from}});  // also checks that the parameter exists
-  const BoundsOptions bo = MakeBoundsOptions(c0.model.num_alpha());
+  const BoundsOptions bo = MakeBoundsOptions(c0);
   int solves = 0;
   SweepOptions so;
   so.bounds = bo;
@@ -568,7 +563,7 @@ int DesignCommands::State::RunSweep() {
 int DesignCommands::State::RunNoa() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c0 = noa_case.Load({{param, from}});
-  const BoundsOptions bo = MakeBoundsOptions(c0.model.num_alpha());
+  const BoundsOptions bo = MakeBoundsOptions(c0);
   int ref_solves = 0;
   NoaOptions no;
   no.lower = from;
@@ -645,7 +640,7 @@ int DesignCommands::State::RunVerify() {
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
   const int nc = system.num_alpha();
-  const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(nc));
+  const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(c));
   if (!b.IsUsable()) {
     std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";
     return 1;

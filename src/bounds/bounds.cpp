@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,17 @@ bool BoundsOptions::IsValid(std::string* error) const {
     *error = "BoundsOptions.method must be kFullSpace, kReducedSpace or kBoth";
     return false;
   }
+  if (random_seeds < 0 || random_seeds > 100000) {
+    *error =
+        "BoundsOptions.random_seeds must lie in [0, 100000], got " + std::to_string(random_seeds);
+    return false;
+  }
+  for (int g : seed_groups) {
+    if (g < 0) {
+      *error = "BoundsOptions.seed_groups has a negative group " + std::to_string(g);
+      return false;
+    }
+  }
   if (check_samples < 0) {
     *error = "BoundsOptions.check_samples must be >= 0, got " + std::to_string(check_samples);
     return false;
@@ -99,6 +111,48 @@ std::vector<Eigen::VectorXd> DefaultAlphaSeeds(int num_contacts) {
   add(Eigen::VectorXd::Constant(n, -0.5));
   add(alt);
   add(-alt);
+  return seeds;
+}
+
+std::vector<Eigen::VectorXd> AlphaSeeds(int num_alpha, const BoundsOptions& options,
+                                        SeedCounts* counts) {
+  const int n = num_alpha;
+  std::vector<Eigen::VectorXd> seeds;
+  auto add = [&seeds](const Eigen::VectorXd& a) {
+    for (const Eigen::VectorXd& s : seeds) {
+      if (s == a) return 0;
+    }
+    seeds.push_back(a);
+    return 1;
+  };
+  SeedCounts c;
+  for (const Eigen::VectorXd& a :
+       options.alpha_seeds.empty() ? DefaultAlphaSeeds(n) : options.alpha_seeds) {
+    c.base += add(a);
+  }
+  if (!options.seed_groups.empty()) {
+    if (static_cast<int>(options.seed_groups.size()) != n) {
+      throw std::invalid_argument("AlphaSeeds: seed_groups has " +
+                                  std::to_string(options.seed_groups.size()) + " entries for " +
+                                  std::to_string(n) + " alpha");
+    }
+    const int groups = *std::max_element(options.seed_groups.begin(), options.seed_groups.end());
+    for (int g = 0; g <= groups; ++g) {
+      Eigen::VectorXd a(n);
+      for (int i = 0; i < n; ++i) a[i] = options.seed_groups[i] == g ? 1.0 : -1.0;
+      c.group_patterns += add(a);
+      c.group_patterns += add(-a);
+    }
+  }
+  // A stream of its own, so that adding random seeds leaves the check samples unchanged.
+  std::mt19937 rng(options.sample_seed + 1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int r = 0; r < options.random_seeds; ++r) {
+    Eigen::VectorXd a(n);
+    for (int i = 0; i < n; ++i) a[i] = uniform(rng);
+    c.random += add(a);
+  }
+  if (counts) *counts = c;
   return seeds;
 }
 

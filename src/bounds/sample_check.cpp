@@ -103,9 +103,10 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
                                 std::to_string(freq_hz));
   }
   const int nc = system.num_alpha();
-  const std::vector<Eigen::VectorXd> seeds =
-      options.alpha_seeds.empty() ? DefaultAlphaSeeds(nc) : options.alpha_seeds;
+  SeedCounts counts;
+  const std::vector<Eigen::VectorXd> seeds = AlphaSeeds(nc, options, &counts);
   BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds);
+  result.seed_counts = counts;
   if (nc == 0 || options.check_samples == 0) return result;
 
   const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);

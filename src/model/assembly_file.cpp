@@ -71,6 +71,7 @@ void ReadContacts(const Reader& rd, const toml::table& root,
     c.normal_preload = rd.NonNegative(t, where, "normal_preload", 0.0);
     resolved->push_back(toml::table{{"name", c.name}, {"kn", c.kn}, {"kt", c.kt}, {"mu", c.mu}});
     cs->contact_names.push_back(c.name);
+    cs->alpha_interface.push_back(cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1);
     cs->model.contacts.push_back(std::move(c));
   }
 }

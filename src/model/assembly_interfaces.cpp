@@ -219,10 +219,12 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
     }
     // α groups: per contact, or per interface and direction.
     const int next = groups.empty() ? 0 : groups.back() + 1;
+    const int next_interface = cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1;
     for (size_t p = 0; p < pairs.size(); ++p) {
       for (int d = 0; d < directions; ++d) {
         groups.push_back(alpha == "interface" ? next + d
                                               : next + static_cast<int>(p) * directions + d);
+        if (alpha != "interface" || p == 0) cs->alpha_interface.push_back(next_interface + d);
       }
     }
     grouped = grouped || (alpha == "interface" && pairs.size() > 1);

@@ -280,6 +280,63 @@ TEST(Bounds, OptionsValidation) {
   EXPECT_THROW(ComputeBounds(Baseline(), 266.0, o), std::invalid_argument);
 }
 
+// Seeds grow with the interfaces and the requested random count, never as 2^nα.
+TEST(Bounds, SeedGroupsAndRandomSeedsAreAddedAndCounted) {
+  BoundsOptions o;
+  o.seed_groups = {0, 0, 1, 1, 2, 2};  // three interfaces of two α each
+  o.random_seeds = 7;
+  SeedCounts counts;
+  const auto seeds = AlphaSeeds(6, o, &counts);
+  EXPECT_EQ(counts.base, 5);
+  EXPECT_EQ(counts.group_patterns, 6);
+  EXPECT_EQ(counts.random, 7);
+  ASSERT_EQ(seeds.size(), 18u);
+  Eigen::VectorXd first_on(6), last_off(6);
+  first_on << 1, 1, -1, -1, -1, -1;
+  last_off << 1, 1, 1, 1, -1, -1;
+  EXPECT_EQ(seeds[5], first_on);
+  EXPECT_EQ(seeds[10], last_off);
+  for (size_t i = 11; i < seeds.size(); ++i) {
+    EXPECT_LE(seeds[i].cwiseAbs().maxCoeff(), 1.0);
+    EXPECT_GT(seeds[i].cwiseAbs().minCoeff(), 0.0);  // random, not a pattern
+  }
+  // Reproducible, and independent of the check samples' stream.
+  EXPECT_EQ(AlphaSeeds(6, o).back(), seeds.back());
+  // A pattern equal to a base seed counts once: two groups of one α give ±(1, −1) = the
+  // alternating corners of the default set.
+  o = BoundsOptions{};
+  o.seed_groups = {0, 1};
+  EXPECT_EQ(AlphaSeeds(2, o, &counts).size(), 5u);
+  EXPECT_EQ(counts.group_patterns, 0);
+  o.seed_groups = {0, 1, 2};
+  EXPECT_THROW(AlphaSeeds(2, o), std::invalid_argument);
+  o.seed_groups = {0, -1};
+  std::string error;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("seed_groups"), std::string::npos);
+  o = BoundsOptions{};
+  o.random_seeds = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+}
+
+// The extra seeds reach the optimisation: the result counts them, and the bounds do not get
+// worse (more seeds, each a local optimisation; the best is kept).
+TEST(Bounds, ExtraSeedsAreTriedAndReported) {
+  BoundsOptions o;
+  o.check_samples = 0;
+  const BoundsResult plain = ComputeBounds(Baseline(), 266.0, o);
+  o.seed_groups = {0, 1, 2, 3};
+  o.random_seeds = 3;
+  const BoundsResult more = ComputeBounds(Baseline(), 266.0, o);
+  EXPECT_EQ(more.seed_counts.base, 5);
+  EXPECT_EQ(more.seed_counts.group_patterns, 8);
+  EXPECT_EQ(more.seed_counts.random, 3);
+  EXPECT_EQ(more.seeds_tried, 16);
+  ASSERT_TRUE(plain.IsUsable() && more.IsUsable());
+  EXPECT_LE(more.min.amplitude, plain.min.amplitude * (1 + 1e-9));
+  EXPECT_GE(more.max.amplitude, plain.max.amplitude * (1 - 1e-9));
+}
+
 TEST(Bounds, DefaultSeedsAndStatusNames) {
   const auto four = DefaultAlphaSeeds(4);
   ASSERT_EQ(four.size(), 5u);

@@ -1,9 +1,10 @@
+#include "fricrom/design.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "fricrom/balance.h"
-#include "fricrom/design.h"
 #include "fricrom/hbm.h"
 #include "test_models.h"
 
@@ -128,6 +129,47 @@ TEST(Design, NoConvergedMaximumMeansNoResonance) {
   EXPECT_TRUE(std::isnan(r.freq_hz));
   EXPECT_TRUE(std::isnan(r.bounds.max.amplitude));
   EXPECT_EQ(r.bound_solves, 3);  // the scan only: no refinement around a non-existent peak
+}
+
+// A bound curve is its points' bounds: the first point (no warm seeds) equals a single bound
+// computation, every later point is at least as wide as one without warm seeds (the seeds are a
+// superset), the peak is the largest converged y_max, and progress counts the frequencies.
+TEST(Design, BoundCurveIsItsPointsWithWarmSeedsAndItsPeak) {
+  HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
+  const std::vector<double> freqs = EvenFrequencies(262.0, 270.0, 3);
+  ASSERT_EQ(freqs.size(), 3u);
+  EXPECT_DOUBLE_EQ(freqs[1], 266.0);
+  BoundCurveOptions o;
+  o.bounds.check_samples = 0;
+  std::vector<int> done;
+  o.progress = [&done](const std::string& stage, int d, int total) {
+    if (stage == "frequencies") {
+      EXPECT_EQ(total, 3);
+      done.push_back(d);
+    } else {
+      EXPECT_NE(stage.find(" Hz: seeds"), std::string::npos) << stage;
+    }
+  };
+  const BoundCurve curve = ComputeBoundCurve(sys, freqs, o);
+  EXPECT_EQ(done, (std::vector<int>{1, 2, 3}));
+  ASSERT_EQ(curve.points.size(), 3u);
+  const BoundsResult first = ComputeBounds(sys, freqs[0], o.bounds);
+  EXPECT_EQ(curve.points[0].min.amplitude, first.min.amplitude);
+  EXPECT_EQ(curve.points[0].max.amplitude, first.max.amplitude);
+  for (int i = 1; i < 3; ++i) {
+    const BoundsResult cold = ComputeBounds(sys, freqs[i], o.bounds);
+    ASSERT_TRUE(curve.points[i].IsUsable());
+    EXPECT_LE(curve.points[i].min.amplitude, cold.min.amplitude * (1 + 1e-9));
+    EXPECT_GE(curve.points[i].max.amplitude, cold.max.amplitude * (1 - 1e-9));
+  }
+  ASSERT_TRUE(curve.HasPeak());
+  for (const BoundsResult& b : curve.points) {
+    EXPECT_LE(b.max.amplitude, curve.points[curve.peak].max.amplitude);
+  }
+  EXPECT_NE(curve.BriefReport().find("peak of y_max"), std::string::npos);
+  EXPECT_THROW(ComputeBoundCurve(sys, {266.0, -1.0}, o), std::invalid_argument);
+  EXPECT_THROW(EvenFrequencies(270.0, 262.0, 3), std::invalid_argument);
+  EXPECT_THROW(EvenFrequencies(262.0, 270.0, 1), std::invalid_argument);
 }
 
 }  // namespace
