@@ -49,6 +49,12 @@ struct Case {
   // Interface (and tangential direction) of each solver α of an FE assembly, numbered from 0:
   // the groups of BoundsOptions::seed_groups. Empty for lumped cases.
   std::vector<int> alpha_interface;
+  // Contact-state maps of FE assemblies: the placed position [m] of each contact's A-side node
+  // (3 × contacts) and the index of its interface in interface_names. Empty for lumped cases and
+  // for contacts given one by one.
+  Eigen::Matrix3Xd contact_positions;
+  std::vector<int> contact_interface;
+  std::vector<std::string> interface_names;
   std::string resolved;  // the resolved case (parameters substituted) as TOML text
 };
 

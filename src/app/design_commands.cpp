@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "app/cli_common.h"
+#include "app/result_files.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
@@ -36,9 +37,7 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-json Num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json Num(double v) { return NumberOrNull(v); }
 
 // Seeds "a,b,c,d;e,f,g,h" (semicolon-separated α vectors).
 std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts) {
@@ -76,78 +75,6 @@ struct Progress {
     if (enabled) std::cerr << "\n";
   }
 };
-
-void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBalance& system,
-                    const BoundSolution& s, double freq_hz) {
-  if (!s.IsUsable()) return;
-  const auto hist = system.ContactHistories(s.x, kTwoPi * freq_hz, s.alpha);
-  const int nc = static_cast<int>(hist.size());
-  const int n = static_cast<int>(hist[0].time_s.size());
-  Eigen::MatrixXd t(nc, n), nn(nc, n), st(nc, n);
-  std::vector<std::string> regimes;
-  for (int c = 0; c < nc; ++c) {
-    t.row(c) = hist[c].tangential.transpose();
-    nn.row(c) = hist[c].normal.transpose();
-    for (int k = 0; k < n; ++k) st(c, k) = static_cast<double>(hist[c].states[k]);
-    regimes.push_back(ToString(hist[c].regime));
-  }
-  h5.Vector(group + "/time_s", hist[0].time_s);
-  h5.Matrix(group + "/tangential_N", t);
-  h5.Matrix(group + "/normal_N", nn);
-  h5.Matrix(group + "/states", st);
-  h5.Strings(group + "/regimes", regimes);
-  h5.Vector(group + "/alpha", s.alpha);
-  h5.Attribute(group, "freq_hz", freq_hz);
-  h5.Attribute(group, "amplitude_m", s.amplitude);
-  h5.Attribute(group, "states_legend", "0 stick, 1 positive slip, 2 negative slip, 3 lift-off");
-}
-
-std::string Status(const BoundSolution& s) { return ToString(s.status); }
-
-// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
-// pair) count once.
-int ContactPairs(const Model& model) {
-  std::vector<std::pair<std::vector<int>, std::vector<int>>> seen;
-  for (const Contact& c : model.contacts) {
-    const auto key = std::make_pair(c.dofs_a, c.dofs_b);
-    if (std::find(seen.begin(), seen.end(), key) == seen.end()) seen.push_back(key);
-  }
-  return static_cast<int>(seen.size());
-}
-
-json BoundsJson(const Model& model, const BoundsResult& b) {
-  json j;
-  j["freq_hz"] = b.freq_hz;
-  j["contact_pairs"] = ContactPairs(model);
-  j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
-  j["y_min"] = Num(b.min.amplitude);
-  j["y_max"] = Num(b.max.amplitude);
-  j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor
-  j["eta_max"] = Num(b.min.loss_factor);
-  j["alpha_at_min"] = ToStd(b.min.alpha);
-  j["alpha_at_max"] = ToStd(b.max.alpha);
-  j["states_at_min"] = RegimeNames(b.min.regimes);
-  j["states_at_max"] = RegimeNames(b.max.regimes);
-  j["mixed_configuration_at_min"] = MixedConfiguration(model, b.min.regimes);
-  j["mixed_configuration_at_max"] = MixedConfiguration(model, b.max.regimes);
-  j["R"] = Num(b.robustness());
-  j["status"] = b.IsUsable() ? "converged" : "min: " + Status(b.min) + ", max: " + Status(b.max);
-  j["status_min"] = Status(b.min);
-  j["status_max"] = Status(b.max);
-  j["spread_min"] = b.spread_min;
-  j["spread_max"] = b.spread_max;
-  j["seeds_tried"] = b.seeds_tried;
-  j["seeds_converged"] = b.seeds_converged;
-  j["optimizer_runs"] = b.optimizer_runs;
-  j["seeds"] = {{"tried", b.seeds_tried},
-                {"base", b.seed_counts.base},
-                {"interface_patterns", b.seed_counts.group_patterns},
-                {"random", b.seed_counts.random}};
-  j["samples_checked"] = b.samples_checked;
-  j["samples_failed"] = b.samples_failed;
-  j["improved_by_samples"] = b.improved_by_samples;
-  return j;
-}
 
 void Plot(const std::string& script, const std::vector<std::string>& args) {
   std::string cmd =
@@ -344,82 +271,14 @@ int DesignCommands::State::RunBounds() {
 
   const fs::path dir = OutDir(c, "bounds");
   const fs::path h5p = dir / "bounds.h5", csvp = dir / "bounds.csv";
-  {
-    Hdf5Writer h5(h5p);
-    CommonAttributes(h5, c, "bounds");
-    const int nc = system.num_alpha();
-    std::vector<double> f, ymin, ymax, emin, emax, rr;
-    std::vector<std::string> smin, smax, rmin, rmax;
-    Eigen::MatrixXd amin(results.size(), nc), amax(results.size(), nc);
-    for (size_t i = 0; i < results.size(); ++i) {
-      const BoundsResult& b = results[i];
-      f.push_back(b.freq_hz);
-      ymin.push_back(b.min.amplitude);
-      ymax.push_back(b.max.amplitude);
-      emin.push_back(b.max.loss_factor);
-      emax.push_back(b.min.loss_factor);
-      rr.push_back(b.robustness());
-      smin.push_back(Status(b.min));
-      smax.push_back(Status(b.max));
-      amin.row(i).setConstant(NAN);
-      amax.row(i).setConstant(NAN);
-      if (b.min.alpha.size() == nc) amin.row(i) = b.min.alpha.transpose();
-      if (b.max.alpha.size() == nc) amax.row(i) = b.max.alpha.transpose();
-      for (int k = 0; k < nc; ++k) {
-        rmin.push_back(k < static_cast<int>(b.min.regimes.size()) ? ToString(b.min.regimes[k])
-                                                                  : "unknown");
-        rmax.push_back(k < static_cast<int>(b.max.regimes.size()) ? ToString(b.max.regimes[k])
-                                                                  : "unknown");
-      }
-    }
-    h5.Vector("bounds/freq_hz", f);
-    h5.Vector("bounds/y_min_m", ymin);
-    h5.Vector("bounds/y_max_m", ymax);
-    h5.Vector("bounds/eta_min", emin);
-    h5.Vector("bounds/eta_max", emax);
-    h5.Vector("bounds/robustness", rr);
-    h5.Strings("bounds/status_min", smin);
-    h5.Strings("bounds/status_max", smax);
-    h5.Matrix("bounds/alpha_at_min", amin);
-    h5.Matrix("bounds/alpha_at_max", amax);
-    h5.Strings("bounds/regimes_min", rmin);
-    h5.Strings("bounds/regimes_max", rmax);
-    h5.Attribute("bounds", "peak_freq_hz", have_peak ? results[peak].freq_hz : NAN);
-    h5.Attribute("bounds", "robustness_at_peak", have_peak ? results[peak].robustness() : NAN);
-    h5.Attribute("bounds", "wall_s", wall);
-    std::vector<double> lf;
-    for (int i = 0; i < 400; ++i) {
-      lf.push_back(c.analysis.freq_min_hz +
-                   (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
-    }
-    h5.Vector("linear/freq_hz", lf);
-    h5.Vector("linear/free_amplitude_m",
-              LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
-    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick,
-                                                                  lf, c.analysis.receptance));
-    h5.Strings("histories/contacts", c.contact_names);
-    std::vector<double> mu;
-    for (const Contact& ct : c.model.contacts) mu.push_back(ct.mu);
-    h5.Vector("histories/mu", mu);
-    WriteHistories(h5, "histories/min", system, results[peak].min, results[peak].freq_hz);
-    WriteHistories(h5, "histories/max", system, results[peak].max, results[peak].freq_hz);
-    h5.Commit();
-  }
-  {
-    std::ostringstream csv;
-    csv << "# fricrom " << Version() << " bounds of " << c.name << "; units: Hz, m\n";
-    csv << "freq_hz,y_min_m,y_max_m,eta_min,eta_max,R,status_min,status_max\n"
-        << std::setprecision(12);
-    for (const BoundsResult& b : results) {
-      csv << b.freq_hz << "," << b.min.amplitude << "," << b.max.amplitude << ","
-          << b.max.loss_factor << "," << b.min.loss_factor << "," << b.robustness() << ","
-          << Status(b.min) << "," << Status(b.max) << "\n";
-    }
-    WriteTextAtomically(csvp, csv.str());
-  }
+  WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
   if (plot) {
     Plot("plot_bounds.py", {h5p.string(), (dir / "bounds.png").string(), "--normalise"});
-    Plot("plot_contacts.py", {h5p.string(), (dir / "contacts.png").string()});
+    // Time histories are readable for a few contacts; FE interfaces get the contact-state map.
+    if (c.model.contacts.size() <= 12)
+      Plot("plot_contacts.py", {h5p.string(), (dir / "contacts.png").string()});
+    if (HasContactMap(c))
+      Plot("plot_contact_map.py", {h5p.string(), (dir / "contact_map.png").string()});
   }
   bool ok = true;
   for (const BoundsResult& b : results) ok = ok && b.IsUsable();
@@ -441,11 +300,14 @@ int DesignCommands::State::RunBounds() {
               << " s\n";
     std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
               << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
-    std::cout << "  states at min:";
-    for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
-    std::cout << "\n  states at max:";
-    for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
-    std::cout << "\n  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+    if (at.min.regimes.size() <= 12) {  // the report above counts them for FE interfaces
+      std::cout << "  states at min:";
+      for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
+      std::cout << "\n  states at max:";
+      for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
+      std::cout << "\n";
+    }
+    std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
   }
   return ok ? 0 : 1;
 }
@@ -476,51 +338,11 @@ int DesignCommands::State::RunSweep() {
 
   const fs::path dir = OutDir(c0, "sweep_" + param);
   const fs::path h5p = dir / "sweep.h5", csvp = dir / "sweep.csv";
-  std::vector<double> r, ymin, ymax, emin, emax, fr;
-  std::vector<std::string> st;
-  json states_min = json::array(), states_max = json::array(), mixed_min = json::array(),
-       mixed_max = json::array();
-  for (const RobustnessPoint& p : pts) {
-    r.push_back(p.robustness);
-    ymin.push_back(p.bounds.min.amplitude);
-    ymax.push_back(p.bounds.max.amplitude);
-    emin.push_back(p.bounds.max.loss_factor);
-    emax.push_back(p.bounds.min.loss_factor);
-    fr.push_back(p.freq_hz);
-    st.push_back(p.bounds.IsUsable() ? "converged" : "failed");
-    states_min.push_back(RegimeNames(p.bounds.min.regimes));
-    states_max.push_back(RegimeNames(p.bounds.max.regimes));
-    mixed_min.push_back(MixedConfiguration(c0.model, p.bounds.min.regimes));
-    mixed_max.push_back(MixedConfiguration(c0.model, p.bounds.max.regimes));
-  }
-  {
-    Hdf5Writer h5(h5p);
-    CommonAttributes(h5, c0, "sweep");
-    h5.Vector("sweep/values", values);
-    h5.Vector("sweep/robustness", r);
-    h5.Vector("sweep/y_min_m", ymin);
-    h5.Vector("sweep/y_max_m", ymax);
-    h5.Vector("sweep/eta_min", emin);
-    h5.Vector("sweep/eta_max", emax);
-    h5.Vector("sweep/freq_hz", fr);
-    h5.Strings("sweep/status", st);
-    h5.Attribute("sweep", "param", param);
-    h5.Attribute("sweep", "reference_freq_hz", track_peak ? NAN : so.reference_freq_hz);
-    h5.Attribute("sweep", "wall_s", wall);
-    h5.Attribute("sweep", "inner_solves", static_cast<double>(solves));
-    h5.Commit();
-  }
-  {
-    std::ostringstream csv;
-    csv << "# fricrom " << Version() << " sweep of " << param << " on " << c0.name
-        << "; units: -, Hz, m\n";
-    csv << param << ",R,freq_hz,y_min_m,y_max_m,eta_min,eta_max,status\n" << std::setprecision(12);
-    for (size_t i = 0; i < pts.size(); ++i) {
-      csv << values[i] << "," << r[i] << "," << fr[i] << "," << ymin[i] << "," << ymax[i] << ","
-          << emin[i] << "," << emax[i] << "," << st[i] << "\n";
-    }
-    WriteTextAtomically(csvp, csv.str());
-  }
+  const SweepColumns cols = MakeSweepColumns(c0.model, pts);
+  WriteSweepFiles(c0, param, values, cols, track_peak ? NAN : so.reference_freq_hz, wall, solves,
+                  {h5p, csvp});
+  const auto& [r, ymin, ymax, emin, emax, fr, st, states_min, states_max, mixed_min, mixed_max] =
+      cols;
   if (plot) Plot("plot_sweep.py", {h5p.string(), (dir / "sweep.png").string()});
   bool ok = true;
   for (const std::string& x : st) ok = ok && x == "converged";

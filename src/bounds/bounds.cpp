@@ -31,11 +31,39 @@ double RankValue(const BoundSolution& s, BoundsOptions::Objective objective) {
   return objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
 }
 
+// Up to kListed entries are listed; longer vectors (FE interfaces) are summarised.
+constexpr int kListed = 12;
+
 std::string FormatVector(const Eigen::VectorXd& v) {
   std::ostringstream os;
+  if (v.size() > kListed) {
+    os << v.size() << " values in [" << v.minCoeff() << ", " << v.maxCoeff() << "], mean "
+       << v.mean();
+    return os.str();
+  }
   os << "[";
   for (int i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
   os << "]";
+  return os.str();
+}
+
+// The regimes in order, or for many contacts how many are in each.
+std::string FormatRegimes(const std::vector<ContactRegime>& regimes) {
+  std::ostringstream os;
+  if (static_cast<int>(regimes.size()) <= kListed) {
+    for (size_t i = 0; i < regimes.size(); ++i) os << (i ? ", " : "") << ToString(regimes[i]);
+    return os.str();
+  }
+  const ContactRegime all[] = {ContactRegime::kFullStick, ContactRegime::kStickSlip,
+                               ContactRegime::kFullSlip, ContactRegime::kStickSlipLiftOff,
+                               ContactRegime::kFullLiftOff};
+  bool first = true;
+  for (ContactRegime r : all) {
+    const auto n = std::count(regimes.begin(), regimes.end(), r);
+    if (n == 0) continue;
+    os << (first ? "" : ", ") << n << " " << ToString(r);
+    first = false;
+  }
   return os.str();
 }
 
@@ -206,8 +234,7 @@ std::string BoundsResult::BriefReport() const {
       os << " (seed " << s.seed << ", " << s.iterations << " it.), amplitude " << s.amplitude
          << " m, eta " << s.loss_factor << ", |R|/scale " << s.residual << ", alpha "
          << FormatVector(s.alpha) << ", regimes [";
-      for (size_t i = 0; i < s.regimes.size(); ++i) os << (i ? ", " : "") << ToString(s.regimes[i]);
-      os << "]";
+      os << FormatRegimes(s.regimes) << "]";
     }
     os << " -- " << s.message << "\n";
   };

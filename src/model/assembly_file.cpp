@@ -3,6 +3,7 @@
 // (assembly_interfaces.cpp), nodal loads on nodes or node sets, body accelerations, and a response
 // DOF. Builds the same Model the lumped schema builds, with DOF names "body.node.component",
 // solved by default through the condensed balance.
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -73,6 +74,10 @@ void ReadContacts(const Reader& rd, const toml::table& root,
     cs->contact_names.push_back(c.name);
     cs->alpha_interface.push_back(cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1);
     cs->model.contacts.push_back(std::move(c));
+    // Not on an interface face: no place in a contact-state map.
+    cs->contact_positions.conservativeResize(3, cs->contact_positions.cols() + 1);
+    cs->contact_positions.col(cs->contact_positions.cols() - 1).setConstant(NAN);
+    cs->contact_interface.push_back(-1);
   }
 }
 

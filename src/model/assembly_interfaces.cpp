@@ -216,7 +216,14 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
       }
       cs->contact_names.push_back(c.name);
       cs->model.contacts.push_back(std::move(c));
+      const int nc = static_cast<int>(cs->model.contacts.size());
+      cs->contact_positions.conservativeResize(3, nc);
+      for (int k = static_cast<int>(cs->contact_interface.size()); k < nc; ++k) {
+        cs->contact_positions.col(k) = a.body->PlacedXyz(p.node_a);
+        cs->contact_interface.push_back(static_cast<int>(cs->interface_names.size()));
+      }
     }
+    cs->interface_names.push_back(name);
     // α groups: per contact, or per interface and direction.
     const int next = groups.empty() ? 0 : groups.back() + 1;
     const int next_interface = cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1;

@@ -1,0 +1,241 @@
+#include "app/result_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <utility>
+
+#include "app/cli_common.h"
+#include "fricrom/linear.h"
+#include "fricrom/units.h"
+#include "io/atomic_file.h"
+#include "io/hdf5_file.h"
+
+namespace fricrom::app {
+
+using json = nlohmann::json;
+
+json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+std::string Status(const BoundSolution& s) { return ToString(s.status); }
+
+namespace {
+json Num(double v) { return NumberOrNull(v); }
+}  // namespace
+
+static void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBalance& system,
+                           const BoundSolution& s, double freq_hz) {
+  if (!s.IsUsable()) return;
+  const auto hist = system.ContactHistories(s.x, kTwoPi * freq_hz, s.alpha);
+  const int nc = static_cast<int>(hist.size());
+  const int n = static_cast<int>(hist[0].time_s.size());
+  Eigen::MatrixXd t(nc, n), nn(nc, n), st(nc, n);
+  std::vector<std::string> regimes;
+  for (int c = 0; c < nc; ++c) {
+    t.row(c) = hist[c].tangential.transpose();
+    nn.row(c) = hist[c].normal.transpose();
+    for (int k = 0; k < n; ++k) st(c, k) = static_cast<double>(hist[c].states[k]);
+    regimes.push_back(ToString(hist[c].regime));
+  }
+  h5.Vector(group + "/time_s", hist[0].time_s);
+  h5.Matrix(group + "/tangential_N", t);
+  h5.Matrix(group + "/normal_N", nn);
+  h5.Matrix(group + "/states", st);
+  h5.Strings(group + "/regimes", regimes);
+  h5.Vector(group + "/alpha", s.alpha);
+  h5.Attribute(group, "freq_hz", freq_hz);
+  h5.Attribute(group, "amplitude_m", s.amplitude);
+  h5.Attribute(group, "states_legend", "0 stick, 1 positive slip, 2 negative slip, 3 lift-off");
+}
+
+// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
+// pair) count once.
+int ContactPairs(const Model& model) {
+  std::vector<std::pair<std::vector<int>, std::vector<int>>> seen;
+  for (const Contact& c : model.contacts) {
+    const auto key = std::make_pair(c.dofs_a, c.dofs_b);
+    if (std::find(seen.begin(), seen.end(), key) == seen.end()) seen.push_back(key);
+  }
+  return static_cast<int>(seen.size());
+}
+
+json BoundsJson(const Model& model, const BoundsResult& b) {
+  json j;
+  j["freq_hz"] = b.freq_hz;
+  j["contact_pairs"] = ContactPairs(model);
+  j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
+  j["y_min"] = Num(b.min.amplitude);
+  j["y_max"] = Num(b.max.amplitude);
+  j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor
+  j["eta_max"] = Num(b.min.loss_factor);
+  j["alpha_at_min"] = ToStd(b.min.alpha);
+  j["alpha_at_max"] = ToStd(b.max.alpha);
+  j["states_at_min"] = RegimeNames(b.min.regimes);
+  j["states_at_max"] = RegimeNames(b.max.regimes);
+  j["mixed_configuration_at_min"] = MixedConfiguration(model, b.min.regimes);
+  j["mixed_configuration_at_max"] = MixedConfiguration(model, b.max.regimes);
+  j["R"] = Num(b.robustness());
+  j["status"] = b.IsUsable() ? "converged" : "min: " + Status(b.min) + ", max: " + Status(b.max);
+  j["status_min"] = Status(b.min);
+  j["status_max"] = Status(b.max);
+  j["spread_min"] = b.spread_min;
+  j["spread_max"] = b.spread_max;
+  j["seeds_tried"] = b.seeds_tried;
+  j["seeds_converged"] = b.seeds_converged;
+  j["optimizer_runs"] = b.optimizer_runs;
+  j["seeds"] = {{"tried", b.seeds_tried},
+                {"base", b.seed_counts.base},
+                {"interface_patterns", b.seed_counts.group_patterns},
+                {"random", b.seed_counts.random}};
+  j["samples_checked"] = b.samples_checked;
+  j["samples_failed"] = b.samples_failed;
+  j["improved_by_samples"] = b.improved_by_samples;
+  return j;
+}
+
+bool HasContactMap(const Case& c) {
+  return !c.interface_names.empty() &&
+         c.contact_positions.cols() == static_cast<Eigen::Index>(c.model.contacts.size()) &&
+         c.contact_interface.size() == c.model.contacts.size();
+}
+
+void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const BoundCurve& curve,
+                          const ResultFiles& files) {
+  const BoundsResult& at = curve.points[curve.HasPeak() ? curve.peak : 0];
+  {
+    Hdf5Writer h5(files.hdf5);
+    CommonAttributes(h5, c, "bounds");
+    const int nc = system.num_alpha();
+    std::vector<double> f, ymin, ymax, emin, emax, rr;
+    std::vector<std::string> smin, smax, rmin, rmax;
+    Eigen::MatrixXd amin(curve.points.size(), nc), amax(curve.points.size(), nc);
+    for (size_t i = 0; i < curve.points.size(); ++i) {
+      const BoundsResult& b = curve.points[i];
+      f.push_back(b.freq_hz);
+      ymin.push_back(b.min.amplitude);
+      ymax.push_back(b.max.amplitude);
+      emin.push_back(b.max.loss_factor);
+      emax.push_back(b.min.loss_factor);
+      rr.push_back(b.robustness());
+      smin.push_back(Status(b.min));
+      smax.push_back(Status(b.max));
+      amin.row(i).setConstant(NAN);
+      amax.row(i).setConstant(NAN);
+      if (b.min.alpha.size() == nc) amin.row(i) = b.min.alpha.transpose();
+      if (b.max.alpha.size() == nc) amax.row(i) = b.max.alpha.transpose();
+      for (int k = 0; k < nc; ++k) {
+        rmin.push_back(k < static_cast<int>(b.min.regimes.size()) ? ToString(b.min.regimes[k])
+                                                                  : "unknown");
+        rmax.push_back(k < static_cast<int>(b.max.regimes.size()) ? ToString(b.max.regimes[k])
+                                                                  : "unknown");
+      }
+    }
+    h5.Vector("bounds/freq_hz", f);
+    h5.Vector("bounds/y_min_m", ymin);
+    h5.Vector("bounds/y_max_m", ymax);
+    h5.Vector("bounds/eta_min", emin);
+    h5.Vector("bounds/eta_max", emax);
+    h5.Vector("bounds/robustness", rr);
+    h5.Strings("bounds/status_min", smin);
+    h5.Strings("bounds/status_max", smax);
+    h5.Matrix("bounds/alpha_at_min", amin);
+    h5.Matrix("bounds/alpha_at_max", amax);
+    h5.Strings("bounds/regimes_min", rmin);
+    h5.Strings("bounds/regimes_max", rmax);
+    h5.Attribute("bounds", "peak_freq_hz",
+                 curve.HasPeak() ? curve.points[curve.peak].freq_hz : NAN);
+    h5.Attribute("bounds", "robustness_at_peak",
+                 curve.HasPeak() ? curve.points[curve.peak].robustness() : NAN);
+    h5.Attribute("bounds", "wall_s", curve.wall_s);
+    std::vector<double> lf;
+    for (int i = 0; i < 400; ++i) {
+      lf.push_back(c.analysis.freq_min_hz +
+                   (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
+    }
+    h5.Vector("linear/freq_hz", lf);
+    h5.Vector("linear/free_amplitude_m",
+              LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
+    h5.Vector("linear/stick_amplitude_m", LinearResponseAmplitude(c.model, LinearSystemKind::kStick,
+                                                                  lf, c.analysis.receptance));
+    h5.Strings("histories/contacts", c.contact_names);
+    std::vector<double> mu;
+    for (const Contact& ct : c.model.contacts) mu.push_back(ct.mu);
+    h5.Vector("histories/mu", mu);
+    WriteHistories(h5, "histories/min", system, at.min, at.freq_hz);
+    WriteHistories(h5, "histories/max", system, at.max, at.freq_hz);
+    if (HasContactMap(c)) {
+      h5.Matrix("contact_map/position_m", c.contact_positions.transpose());
+      h5.Vector("contact_map/interface", std::vector<double>(c.contact_interface.begin(),
+                                                             c.contact_interface.end()));
+      h5.Strings("contact_map/interface_names", c.interface_names);
+    }
+    h5.Commit();
+  }
+  {
+    std::ostringstream csv;
+    csv << "# fricrom " << Version() << " bounds of " << c.name << "; units: Hz, m\n";
+    csv << "freq_hz,y_min_m,y_max_m,eta_min,eta_max,R,status_min,status_max\n"
+        << std::setprecision(12);
+    for (const BoundsResult& b : curve.points) {
+      csv << b.freq_hz << "," << b.min.amplitude << "," << b.max.amplitude << ","
+          << b.max.loss_factor << "," << b.min.loss_factor << "," << b.robustness() << ","
+          << Status(b.min) << "," << Status(b.max) << "\n";
+    }
+    WriteTextAtomically(files.csv, csv.str());
+  }
+}
+
+SweepColumns MakeSweepColumns(const Model& model, const std::vector<RobustnessPoint>& pts) {
+  SweepColumns s;
+  for (const RobustnessPoint& p : pts) {
+    s.r.push_back(p.robustness);
+    s.ymin.push_back(p.bounds.min.amplitude);
+    s.ymax.push_back(p.bounds.max.amplitude);
+    s.emin.push_back(p.bounds.max.loss_factor);
+    s.emax.push_back(p.bounds.min.loss_factor);
+    s.fr.push_back(p.freq_hz);
+    s.st.push_back(p.bounds.IsUsable() ? "converged" : "failed");
+    s.states_min.push_back(RegimeNames(p.bounds.min.regimes));
+    s.states_max.push_back(RegimeNames(p.bounds.max.regimes));
+    s.mixed_min.push_back(MixedConfiguration(model, p.bounds.min.regimes));
+    s.mixed_max.push_back(MixedConfiguration(model, p.bounds.max.regimes));
+  }
+  return s;
+}
+
+void WriteSweepFiles(const Case& c0, const std::string& param, const std::vector<double>& values,
+                     const SweepColumns& cols, double reference_freq_hz, double wall_s, int solves,
+                     const ResultFiles& files) {
+  {
+    Hdf5Writer h5(files.hdf5);
+    CommonAttributes(h5, c0, "sweep");
+    h5.Vector("sweep/values", values);
+    h5.Vector("sweep/robustness", cols.r);
+    h5.Vector("sweep/y_min_m", cols.ymin);
+    h5.Vector("sweep/y_max_m", cols.ymax);
+    h5.Vector("sweep/eta_min", cols.emin);
+    h5.Vector("sweep/eta_max", cols.emax);
+    h5.Vector("sweep/freq_hz", cols.fr);
+    h5.Strings("sweep/status", cols.st);
+    h5.Attribute("sweep", "param", param);
+    h5.Attribute("sweep", "reference_freq_hz", reference_freq_hz);
+    h5.Attribute("sweep", "wall_s", wall_s);
+    h5.Attribute("sweep", "inner_solves", static_cast<double>(solves));
+    h5.Commit();
+  }
+  {
+    std::ostringstream csv;
+    csv << "# fricrom " << Version() << " sweep of " << param << " on " << c0.name
+        << "; units: -, Hz, m\n";
+    csv << param << ",R,freq_hz,y_min_m,y_max_m,eta_min,eta_max,status\n" << std::setprecision(12);
+    for (size_t i = 0; i < cols.r.size(); ++i) {
+      csv << values[i] << "," << cols.r[i] << "," << cols.fr[i] << "," << cols.ymin[i] << ","
+          << cols.ymax[i] << "," << cols.emin[i] << "," << cols.emax[i] << "," << cols.st[i]
+          << "\n";
+    }
+    WriteTextAtomically(files.csv, csv.str());
+  }
+}
+
+}  // namespace fricrom::app

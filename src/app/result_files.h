@@ -1,0 +1,54 @@
+// One writer per result file type of the design commands (bound curves, sweeps): HDF5 and CSV
+// files with the case's attributes, and the JSON of a bound computation. Units: SI (m, Hz, N).
+#pragma once
+
+#include <Eigen/Dense>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "fricrom/bounds.h"
+#include "fricrom/case.h"
+#include "fricrom/design.h"
+#include "fricrom/harmonic_balance.h"
+
+namespace fricrom::app {
+
+// A finite number, or null: failed values are never numbers in the JSON.
+nlohmann::json NumberOrNull(double v);
+std::vector<double> ToStd(const Eigen::VectorXd& v);
+std::string Status(const BoundSolution& s);
+
+// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
+// pair) count once.
+int ContactPairs(const Model& model);
+// The JSON of one bound computation (the keys of `fricrom bounds --json`).
+nlohmann::json BoundsJson(const Model& model, const BoundsResult& b);
+
+struct ResultFiles {
+  std::filesystem::path hdf5, csv;
+};
+
+// The case places its contacts on interface faces (FE assemblies): a contact-state map can be drawn.
+bool HasContactMap(const Case& c);
+
+// bounds.h5 (curve, linear references, contact histories and contact-state map data at the
+// peak) and bounds.csv.
+void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const BoundCurve& curve,
+                          const ResultFiles& files);
+
+// The columns of a robustness sweep, per value.
+struct SweepColumns {
+  std::vector<double> r, ymin, ymax, emin, emax, fr;
+  std::vector<std::string> st;
+  nlohmann::json states_min = nlohmann::json::array(), states_max = nlohmann::json::array(),
+                 mixed_min = nlohmann::json::array(), mixed_max = nlohmann::json::array();
+};
+SweepColumns MakeSweepColumns(const Model& model, const std::vector<RobustnessPoint>& pts);
+// sweep.h5 and sweep.csv; reference_freq_hz NaN when the peak was tracked.
+void WriteSweepFiles(const Case& c0, const std::string& param, const std::vector<double>& values,
+                     const SweepColumns& cols, double reference_freq_hz, double wall_s, int solves,
+                     const ResultFiles& files);
+
+}  // namespace fricrom::app
