@@ -166,8 +166,8 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
     WriteHistories(h5, "histories/max", system, at.max, at.freq_hz);
     if (HasContactMap(c)) {
       h5.Matrix("contact_map/position_m", c.contact_positions.transpose());
-      h5.Vector("contact_map/interface", std::vector<double>(c.contact_interface.begin(),
-                                                             c.contact_interface.end()));
+      h5.Vector("contact_map/interface",
+                std::vector<double>(c.contact_interface.begin(), c.contact_interface.end()));
       h5.Strings("contact_map/interface_names", c.interface_names);
     }
     h5.Commit();

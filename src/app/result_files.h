@@ -30,7 +30,8 @@ struct ResultFiles {
   std::filesystem::path hdf5, csv;
 };
 
-// The case places its contacts on interface faces (FE assemblies): a contact-state map can be drawn.
+// The case places its contacts on interface faces (FE assemblies): a contact-state map can be
+// drawn.
 bool HasContactMap(const Case& c);
 
 // bounds.h5 (curve, linear references, contact histories and contact-state map data at the

@@ -1,4 +1,5 @@
 #include <muParser.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <filesystem>
@@ -6,7 +7,6 @@
 #include <numbers>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "case_reader.h"
 #include "fricrom/case.h"
@@ -75,19 +75,25 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
       << ": TOML syntax error: " << e.description();
     throw CaseError(s.str());
   }
-  if (const toml::node* sn = root.get("schema"); sn && sn->value<std::string>() == "fricrom-assembly-1") {
+  if (const toml::node* sn = root.get("schema");
+      sn && sn->value<std::string>() == "fricrom-assembly-1") {
     return detail::ParseAssembly(root, source_name, overrides);
   }
-  rd.CheckKeys(root, "", {"schema", "name", "description", "units", "parameters", "bodies",
-                          "springs", "contacts", "loads", "response", "analysis"});
+  rd.CheckKeys(root, "",
+               {"schema", "name", "description", "units", "parameters", "bodies", "springs",
+                "contacts", "loads", "response", "analysis"});
   Case cs;
   cs.source = source_name;
   const std::string schema = rd.String(root, "", "schema");
   if (schema != "fricrom-case-1") {
-    rd.Fail("schema", "expected \"fricrom-case-1\" (lumped) or \"fricrom-assembly-1\" (FE), got \"" + schema + "\"", root.get("schema"));
+    rd.Fail("schema",
+            "expected \"fricrom-case-1\" (lumped) or \"fricrom-assembly-1\" (FE), got \"" + schema +
+                "\"",
+            root.get("schema"));
   }
   const std::string units = rd.String(root, "", "units");
-  if (units != "SI") rd.Fail("units", "only \"SI\" is supported, got \"" + units + "\"", root.get("units"));
+  if (units != "SI")
+    rd.Fail("units", "only \"SI\" is supported, got \"" + units + "\"", root.get("units"));
   cs.name = rd.String(root, "", "name");
   cs.description = rd.StringOr(root, "", "description", "");
 
@@ -118,11 +124,13 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     Body b;
     b.name = rd.String(t, where, "name");
     for (const Body& o : bodies) {
-      if (o.name == b.name) rd.Fail(where + ".name", "duplicate body name '" + b.name + "'", t.get("name"));
+      if (o.name == b.name)
+        rd.Fail(where + ".name", "duplicate body name '" + b.name + "'", t.get("name"));
     }
     const std::string kind = rd.String(t, where, "kind");
     if (kind != "blade" && kind != "damper") {
-      rd.Fail(where + ".kind", "expected \"blade\" or \"damper\", got \"" + kind + "\"", t.get("kind"));
+      rd.Fail(where + ".kind", "expected \"blade\" or \"damper\", got \"" + kind + "\"",
+              t.get("kind"));
     }
     b.damper = kind == "damper";
     if (t.get("directions")) {
@@ -133,7 +141,8 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
         }
         b.directions.push_back(*d.value<std::string>());
       }
-      if (b.directions.empty()) rd.Fail(where + ".directions", "must not be empty", t.get("directions"));
+      if (b.directions.empty())
+        rd.Fail(where + ".directions", "must not be empty", t.get("directions"));
     } else {
       b.directions = {"x", "y"};
     }
@@ -148,7 +157,10 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
       cground.push_back(cg);
       if (!b.damper) m.free_dofs.push_back(b.dofs.back());
     }
-    toml::table rb{{"name", b.name}, {"kind", kind}, {"mass", mass}, {"ground_stiffness", kg},
+    toml::table rb{{"name", b.name},
+                   {"kind", kind},
+                   {"mass", mass},
+                   {"ground_stiffness", kg},
                    {"ground_damping", cg}};
     rbodies.push_back(std::move(rb));
     bodies.push_back(std::move(b));
@@ -187,7 +199,8 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
       const std::string na(*between[0].value<std::string>()), nb(*between[1].value<std::string>());
       const Body* a = find_body(na, where + ".between", t.get("between"));
       const Body* b = find_body(nb, where + ".between", t.get("between"));
-      if (a == b) rd.Fail(where + ".between", "a spring needs two different bodies", t.get("between"));
+      if (a == b)
+        rd.Fail(where + ".between", "a spring needs two different bodies", t.get("between"));
       const double k = rd.NonNegative(t, where, "stiffness");
       const double c = rd.NonNegative(t, where, "damping", 0.0);
       for (const std::string dir : {"x", "y"}) {
@@ -214,8 +227,9 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
   for (size_t i = 0; i < carr.size(); ++i) {
     const std::string where = "contacts[" + std::to_string(i) + "]";
     const toml::table& t = TableAt(rd, carr, i, where);
-    rd.CheckKeys(t, where, {"name", "damper", "counterpart", "face", "theta", "kn", "kt", "mu",
-                            "normal_preload"});
+    rd.CheckKeys(
+        t, where,
+        {"name", "damper", "counterpart", "face", "theta", "kn", "kt", "mu", "normal_preload"});
     Contact c;
     c.name = rd.StringOr(t, where, "name", "contact" + std::to_string(i + 1));
     const std::string dname = rd.String(t, where, "damper");
@@ -223,10 +237,12 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     if (!d) rd.Fail(where + ".damper", "the damper side cannot be ground", t.get("damper"));
     const std::string cname = rd.String(t, where, "counterpart");
     const Body* b = find_body(cname, where + ".counterpart", t.get("counterpart"));
-    if (b == d) rd.Fail(where + ".counterpart", "must differ from the damper", t.get("counterpart"));
+    if (b == d)
+      rd.Fail(where + ".counterpart", "must differ from the damper", t.get("counterpart"));
     const std::string face = rd.String(t, where, "face");
     if (face != "left" && face != "right") {
-      rd.Fail(where + ".face", "expected \"left\" or \"right\", got \"" + face + "\"", t.get("face"));
+      rd.Fail(where + ".face", "expected \"left\" or \"right\", got \"" + face + "\"",
+              t.get("face"));
     }
     const double theta = rd.Number(t, where, "theta");
     if (!(theta > 0.0 && theta < std::numbers::pi / 2)) {
@@ -239,19 +255,29 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     c.tangent = Eigen::Vector2d(co, face == "left" ? s : -s);
     for (const std::string dir : {"x", "y"}) {
       const int da = DirectionIndex(*d, dir);
-      if (da < 0) rd.Fail(where + ".damper", "a wedge damper body needs both x and y directions", t.get("damper"));
+      if (da < 0)
+        rd.Fail(where + ".damper", "a wedge damper body needs both x and y directions",
+                t.get("damper"));
       c.dofs_a.push_back(da);
       const int db = b ? DirectionIndex(*b, dir) : -1;
-      if (b && db < 0) rd.Fail(where + ".counterpart", "the counterpart needs both x and y directions", t.get("counterpart"));
+      if (b && db < 0)
+        rd.Fail(where + ".counterpart", "the counterpart needs both x and y directions",
+                t.get("counterpart"));
       c.dofs_b.push_back(db);
     }
     c.kn = rd.NonNegative(t, where, "kn");
     c.kt = rd.Positive(t, where, "kt");
     c.mu = rd.NonNegative(t, where, "mu");
     c.normal_preload = rd.NonNegative(t, where, "normal_preload", 0.0);
-    rcontacts.push_back(toml::table{{"name", c.name}, {"damper", dname}, {"counterpart", cname},
-                                    {"face", face}, {"theta", theta}, {"kn", c.kn}, {"kt", c.kt},
-                                    {"mu", c.mu}, {"normal_preload", c.normal_preload}});
+    rcontacts.push_back(toml::table{{"name", c.name},
+                                    {"damper", dname},
+                                    {"counterpart", cname},
+                                    {"face", face},
+                                    {"theta", theta},
+                                    {"kn", c.kn},
+                                    {"kt", c.kt},
+                                    {"mu", c.mu},
+                                    {"normal_preload", c.normal_preload}});
     cs.contact_names.push_back(c.name);
     m.contacts.push_back(std::move(c));
   }
@@ -266,13 +292,16 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     rd.CheckKeys(t, where, {"dof", "harmonic", "cos", "sin"});
     const std::string dof = rd.String(t, where, "dof");
     const int di = m.DofIndex(dof);
-    if (di < 0) rd.Fail(where + ".dof", "no DOF named '" + dof + "' (use body.x or body.y)", t.get("dof"));
+    if (di < 0)
+      rd.Fail(where + ".dof", "no DOF named '" + dof + "' (use body.x or body.y)", t.get("dof"));
     const double hv = rd.Number(t, where, "harmonic");
-    if (hv < 0 || hv != std::floor(hv)) rd.Fail(where + ".harmonic", "expected an integer >= 0", t.get("harmonic"));
+    if (hv < 0 || hv != std::floor(hv))
+      rd.Fail(where + ".harmonic", "expected an integer >= 0", t.get("harmonic"));
     const int h = static_cast<int>(hv);
     const double cv = rd.Number(t, where, "cos");
     const double sv = rd.NumberOr(t, where, "sin", 0.0);
-    if (h == 0 && sv != 0.0) rd.Fail(where + ".sin", "a static load (harmonic 0) has no sine part", t.get("sin"));
+    if (h == 0 && sv != 0.0)
+      rd.Fail(where + ".sin", "a static load (harmonic 0) has no sine part", t.get("sin"));
     HarmonicLoad* target = nullptr;
     for (HarmonicLoad& l : m.loads) {
       if (l.harmonic == h) target = &l;
@@ -299,7 +328,8 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     resolved.insert("response", toml::table{{"dof", dof}});
   }
 
-  detail::ParseAnalysis(rd, root, larr, m.contacts.size(), BalanceKind::kFull, &cs.analysis, &resolved);
+  detail::ParseAnalysis(rd, root, larr, m.contacts.size(), BalanceKind::kFull, &cs.analysis,
+                        &resolved);
   detail::FinishCase(resolved, &cs);
   return cs;
 }

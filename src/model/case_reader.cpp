@@ -20,8 +20,8 @@ void ParseParameters(Reader& rd, const toml::table& root,
     if (it == cs->parameters.end()) {
       std::string names;
       for (const auto& [k, v] : cs->parameters) names += (names.empty() ? "" : ", ") + k;
-      throw CaseError(rd.source() + ": --set " + o.name + ": no such parameter (the case defines: " +
-                      names + ")");
+      throw CaseError(rd.source() + ": --set " + o.name +
+                      ": no such parameter (the case defines: " + names + ")");
     }
     it->second = o.value;
   }
@@ -36,63 +36,75 @@ void ParseParameters(Reader& rd, const toml::table& root,
 void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array& loads,
                    size_t num_contacts, BalanceKind default_balance, AnalysisSettings* out,
                    toml::table* resolved) {
-    const toml::node& an = rd.Require(root, "", "analysis");
-    if (!an.is_table()) rd.Fail("analysis", "expected a table", &an);
-    const toml::table& t = *an.as_table();
-    const std::string w = "analysis";
-    rd.CheckKeys(t, w, {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance", "receptance"});
-    AnalysisSettings& a = *out;
-    a.balance = default_balance;
-    const double h = rd.Number(t, w, "harmonics");
-    if (h < 1 || h != std::floor(h) || h > 200) rd.Fail(w + ".harmonics", "expected an integer in [1, 200]", t.get("harmonics"));
-    a.harmonics = static_cast<int>(h);
-    for (size_t i = 0; i < loads.size(); ++i) {  // a load H cannot represent is an error, not dropped
-      const int lh = static_cast<int>(rd.Number(*loads[i].as_table(), "loads", "harmonic"));
-      if (lh > a.harmonics) {
-        rd.Fail("loads[" + std::to_string(i) + "].harmonic",
-                "harmonic " + std::to_string(lh) + " exceeds analysis.harmonics = " +
-                    std::to_string(a.harmonics) + " (raise harmonics or remove the load)",
-                loads[i].as_table()->get("harmonic"));
-      }
+  const toml::node& an = rd.Require(root, "", "analysis");
+  if (!an.is_table()) rd.Fail("analysis", "expected a table", &an);
+  const toml::table& t = *an.as_table();
+  const std::string w = "analysis";
+  rd.CheckKeys(t, w,
+               {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance",
+                "receptance"});
+  AnalysisSettings& a = *out;
+  a.balance = default_balance;
+  const double h = rd.Number(t, w, "harmonics");
+  if (h < 1 || h != std::floor(h) || h > 200)
+    rd.Fail(w + ".harmonics", "expected an integer in [1, 200]", t.get("harmonics"));
+  a.harmonics = static_cast<int>(h);
+  for (size_t i = 0; i < loads.size(); ++i) {  // a load H cannot represent is an error, not dropped
+    const int lh = static_cast<int>(rd.Number(*loads[i].as_table(), "loads", "harmonic"));
+    if (lh > a.harmonics) {
+      rd.Fail("loads[" + std::to_string(i) + "].harmonic",
+              "harmonic " + std::to_string(lh) + " exceeds analysis.harmonics = " +
+                  std::to_string(a.harmonics) + " (raise harmonics or remove the load)",
+              loads[i].as_table()->get("harmonic"));
     }
-    const double ns = rd.Number(t, w, "samples_per_period");
-    if (ns != std::floor(ns) || ns <= 2 * h || ns < 4 || ns > 1 << 20) {
-      rd.Fail(w + ".samples_per_period", "expected an integer >= 4 and > 2*harmonics", t.get("samples_per_period"));
+  }
+  const double ns = rd.Number(t, w, "samples_per_period");
+  if (ns != std::floor(ns) || ns <= 2 * h || ns < 4 || ns > 1 << 20) {
+    rd.Fail(w + ".samples_per_period", "expected an integer >= 4 and > 2*harmonics",
+            t.get("samples_per_period"));
+  }
+  a.samples_per_period = static_cast<int>(ns);
+  a.freq_min_hz = rd.Positive(t, w, "freq_min_hz");
+  a.freq_max_hz = rd.Positive(t, w, "freq_max_hz");
+  if (!(a.freq_max_hz > a.freq_min_hz))
+    rd.Fail(w + ".freq_max_hz", "must exceed freq_min_hz", t.get("freq_max_hz"));
+  if (t.get("alpha")) {
+    const toml::array& al = rd.Array(t, w, "alpha");
+    for (size_t i = 0; i < al.size(); ++i) {
+      const double v = rd.Number(al[i], w + ".alpha[" + std::to_string(i) + "]");
+      if (!(std::abs(v) <= 1.0))
+        rd.Fail(w + ".alpha[" + std::to_string(i) + "]", "expected a value in [-1, 1]", &al[i]);
+      a.alpha.push_back(v);
     }
-    a.samples_per_period = static_cast<int>(ns);
-    a.freq_min_hz = rd.Positive(t, w, "freq_min_hz");
-    a.freq_max_hz = rd.Positive(t, w, "freq_max_hz");
-    if (!(a.freq_max_hz > a.freq_min_hz)) rd.Fail(w + ".freq_max_hz", "must exceed freq_min_hz", t.get("freq_max_hz"));
-    if (t.get("alpha")) {
-      const toml::array& al = rd.Array(t, w, "alpha");
-      for (size_t i = 0; i < al.size(); ++i) {
-        const double v = rd.Number(al[i], w + ".alpha[" + std::to_string(i) + "]");
-        if (!(std::abs(v) <= 1.0)) rd.Fail(w + ".alpha[" + std::to_string(i) + "]", "expected a value in [-1, 1]", &al[i]);
-        a.alpha.push_back(v);
-      }
-      if (a.alpha.size() != num_contacts) {
-        rd.Fail(w + ".alpha", "expected one value per contact (" + std::to_string(num_contacts) + ")", t.get("alpha"));
-      }
-    } else {
-      a.alpha.assign(num_contacts, 0.0);
+    if (a.alpha.size() != num_contacts) {
+      rd.Fail(w + ".alpha", "expected one value per contact (" + std::to_string(num_contacts) + ")",
+              t.get("alpha"));
     }
-    if (t.get("balance")) {
-      const std::string b = rd.String(t, w, "balance");
-      if (!FromString(b, &a.balance)) rd.Fail(w + ".balance", "expected \"full\" or \"condensed\", got '" + b + "'", t.get("balance"));
-    }
-    if (t.get("receptance")) {
-      const std::string r = rd.String(t, w, "receptance");
-      if (!FromString(r, &a.receptance)) rd.Fail(w + ".receptance", "expected \"dense\" or \"modal\", got '" + r + "'", t.get("receptance"));
-    }
-    toml::array ra;
-    for (double v : a.alpha) ra.push_back(v);
-    if (resolved) resolved->insert("analysis", toml::table{{"harmonics", a.harmonics},
-                                            {"samples_per_period", a.samples_per_period},
-                                            {"freq_min_hz", a.freq_min_hz},
-                                            {"freq_max_hz", a.freq_max_hz},
-                                            {"alpha", std::move(ra)},
-                                            {"balance", ToString(a.balance)},
-                                            {"receptance", ToString(a.receptance)}});
+  } else {
+    a.alpha.assign(num_contacts, 0.0);
+  }
+  if (t.get("balance")) {
+    const std::string b = rd.String(t, w, "balance");
+    if (!FromString(b, &a.balance))
+      rd.Fail(w + ".balance", "expected \"full\" or \"condensed\", got '" + b + "'",
+              t.get("balance"));
+  }
+  if (t.get("receptance")) {
+    const std::string r = rd.String(t, w, "receptance");
+    if (!FromString(r, &a.receptance))
+      rd.Fail(w + ".receptance", "expected \"dense\" or \"modal\", got '" + r + "'",
+              t.get("receptance"));
+  }
+  toml::array ra;
+  for (double v : a.alpha) ra.push_back(v);
+  if (resolved)
+    resolved->insert("analysis", toml::table{{"harmonics", a.harmonics},
+                                             {"samples_per_period", a.samples_per_period},
+                                             {"freq_min_hz", a.freq_min_hz},
+                                             {"freq_max_hz", a.freq_max_hz},
+                                             {"alpha", std::move(ra)},
+                                             {"balance", ToString(a.balance)},
+                                             {"receptance", ToString(a.receptance)}});
 }
 
 void FinishCase(const toml::table& resolved, Case* cs) {

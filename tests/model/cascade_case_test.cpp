@@ -80,6 +80,31 @@ TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
   }
 }
 
+// Contact-state maps and interface seeds: every contact knows its interface and where its pair
+// sits; the second damper's faces are the first's moved by the pitch; α groups per interface and
+// direction.
+TEST(Cascade, ContactsKnowTheirInterfacePositionAndSeedGroup) {
+  const Case c = LoadCase((kDir / "coarse.toml").string());
+  ASSERT_EQ(c.interface_names, (std::vector<std::string>{"d1L", "d1R", "d2L", "d2R"}));
+  ASSERT_EQ(c.contact_positions.cols(), 216);
+  ASSERT_EQ(c.contact_interface.size(), 216u);
+  ASSERT_EQ(c.alpha_interface.size(), 216u);
+  const double pitch = c.parameters.at("pitch");
+  for (int k = 0; k < 216; ++k) {
+    const int i = c.contact_interface[k];
+    ASSERT_GE(i, 0);
+    EXPECT_EQ(c.model.contacts[k].name.rfind(c.interface_names[i] + ".", 0), 0u) << k;
+    EXPECT_EQ(c.alpha_interface[k], 2 * i + (k % 2)) << k;  // .t1, .t2 alternate
+    if (k % 2 == 1) {
+      EXPECT_EQ(c.contact_positions.col(k), c.contact_positions.col(k - 1)) << k;  // one pair
+    }
+    if (i >= 2) {  // damper 2 = damper 1 moved by the pitch along +y
+      const Eigen::Vector3d d = c.contact_positions.col(k) - c.contact_positions.col(k - 108);
+      EXPECT_NEAR((d - Eigen::Vector3d(0.0, pitch, 0.0)).norm(), 0.0, 1e-12) << k;
+    }
+  }
+}
+
 TEST(Cascade, CentrifugalLoadOnEachDamperIsItsMassTimesTheAcceleration) {
   const Case c = LoadCase((kDir / "coarse.toml").string(), {{"gamma", 0.2}});
   const double omega = 2.0 * std::numbers::pi * c.parameters.at("rpm") / 60.0;
@@ -108,6 +133,7 @@ TEST_F(CascadeVariant, OneAlphaPerInterfaceAndDirection) {
   const Case c = Load("mu = \"mu\"\n", "mu = \"mu\"\nalpha = \"interface\"\n", 4);
   EXPECT_EQ(c.model.contacts.size(), 216u);
   EXPECT_EQ(c.model.num_alpha(), 8);
+  EXPECT_EQ(c.alpha_interface, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
 }
 
 TEST_F(CascadeVariant, BadTangentialDirectionsNamesTheKey) {
