@@ -25,6 +25,7 @@ class AlphaGroupedBalance final : public HarmonicBalance {
   int num_contacts() const override { return inner_->num_contacts(); }
   int num_alpha() const override { return num_groups_; }
   int harmonics() const override { return inner_->harmonics(); }
+  std::unique_ptr<HarmonicBalance> WithFewerHarmonics(int harmonics) const override;
 
   void Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                 const HbmRequest& request, HbmEvaluation* out) const override;

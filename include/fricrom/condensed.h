@@ -41,6 +41,8 @@ class CondensedSystem : public HarmonicBalance {
   int num_unknowns() const override;
   int num_contacts() const override { return static_cast<int>(model_.contacts.size()); }
   int harmonics() const override { return options_.harmonics; }
+  // Shares this system's receptance (its G_0, G_1, ... are the lower system's).
+  std::unique_ptr<HarmonicBalance> WithFewerHarmonics(int harmonics) const override;
 
   void Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                 const HbmRequest& request, HbmEvaluation* out) const override;
@@ -63,6 +65,8 @@ class CondensedSystem : public HarmonicBalance {
   Eigen::VectorXd Condense(const Eigen::VectorXd& x_full) const;
 
  private:
+  // The sibling with fewer harmonics (WithFewerHarmonics).
+  CondensedSystem(const CondensedSystem& higher, int harmonics);
   int Idx(int coefficient, int row) const { return coefficient * block_size() + row; }
   // b_, ks_, w_ and each contact's rows (row_t_, row_n_), identical rows merged.
   void BuildRelativeRows();
@@ -83,7 +87,7 @@ class CondensedSystem : public HarmonicBalance {
   Eigen::VectorXd ks_;              // stick stiffness per row (sum of the contacts' kt or kn on it)
   Eigen::VectorXd w_;               // row weights of R_r
   double sy_ = 1.0;                 // weight of R_y
-  std::unique_ptr<HarmonicReceptance> receptance_;
+  std::shared_ptr<HarmonicReceptance> receptance_;
   std::unique_ptr<AftContactForces> aft_;
   std::unique_ptr<HbmSystem> full_;  // the uncondensed balance: energies, histories, η
   mutable std::vector<ContactForceBlocks> blocks_;

@@ -1,5 +1,5 @@
-// Frequency responses of a harmonic-balance problem at fixed α: solves at given frequencies (warm-started) or
-// traces the branch by pseudo-arclength continuation over a frequency range.
+// Frequency responses of a harmonic-balance problem at fixed α: solves at given frequencies
+// (warm-started) or traces the branch by pseudo-arclength continuation over a frequency range.
 #pragma once
 
 #include <Eigen/Dense>
@@ -40,7 +40,8 @@ using FrfProgress = std::function<void(int, int)>;
 // Solves R(x; 2πf, α) = 0 at each frequency in order, each start warm from the last converged
 // point, falling back to the full-stick linear solution and then to a continuation from the last
 // converged point. A point that still fails keeps its status; its x is the last iterate.
-std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system,
+                                         const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
                                          const FrfOptions& options,
                                          const FrfProgress& progress = {});
@@ -52,8 +53,9 @@ std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system, const Ei
 // then continuation in frequency from nearby frequencies (0.95 f, 1.05 f, ... 0.5 f) (a cold start
 // at resonance fails where the branch followed from off-resonance succeeds). The point reports its
 // status; a failed point keeps the last Newton iterate in x and has a NaN amplitude.
-FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double freq_hz,
-                          const Eigen::VectorXd& x_start, const FrfOptions& options);
+FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                          double freq_hz, const Eigen::VectorXd& x_start,
+                          const FrfOptions& options);
 
 struct FrfTrace {
   std::vector<FrfPoint> points;
@@ -64,7 +66,8 @@ struct FrfTrace {
 FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
                   double f_end_hz, const FrfOptions& options, const FrfProgress& progress = {});
 
-// Adapters that expose a harmonic-balance problem at fixed α to the generic solvers (λ = ω in rad/s).
+// Adapters that expose a harmonic-balance problem at fixed α to the generic solvers (λ = ω in
+// rad/s).
 class HbmAtFrequency : public SquareSystem {
  public:
   HbmAtFrequency(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,8 @@ enum class ReceptanceMethod {
 };
 
 struct HbmOptions {
-  int harmonics = 1;             // H >= 1: harmonics 0..H are balanced
-  int samples_per_period = 128;  // AFT time samples N (must exceed 2H)
+  int harmonics = 1;                                       // H >= 1: harmonics 0..H are balanced
+  int samples_per_period = 128;                            // AFT time samples N (must exceed 2H)
   ReceptanceMethod receptance = ReceptanceMethod::kDense;  // condensed balance only
   bool IsValid(std::string* error) const;
 };
@@ -97,6 +98,21 @@ class HarmonicBalance {
                                                        const Eigen::VectorXd& alpha) const = 0;
   virtual CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
                                const Eigen::VectorXd& alpha) const = 0;
+
+  // Harmonic continuation: the same problem with fewer harmonics (1 ≤ harmonics < harmonics()),
+  // cheap to build (it may share this one's linear part). From the stick start, Newton at H = 3
+  // crawls through dozens of damped steps while contacts switch; started from the H = 1 solution
+  // it converges in a few. nullptr where not available (e.g. loads at the dropped harmonics).
+  virtual std::unique_ptr<HarmonicBalance> WithFewerHarmonics(int harmonics) const;
+  // WithFewerHarmonics(1), built on first use and kept (nullptr for H = 1 or where unavailable).
+  const HarmonicBalance* FirstHarmonicBalance() const;
+  // This system's x from x_low of one with fewer harmonics: its coefficients, the higher harmonics
+  // zero (every balance here orders x harmonic-major in equal blocks). Throws on a size mismatch.
+  Eigen::VectorXd EmbedLowerHarmonics(const Eigen::VectorXd& x_low, int low_harmonics) const;
+
+ private:
+  mutable std::unique_ptr<HarmonicBalance> first_harmonic_;
+  mutable bool first_harmonic_tried_ = false;
 };
 
 }  // namespace fricrom

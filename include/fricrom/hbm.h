@@ -37,6 +37,7 @@ class HbmSystem : public HarmonicBalance {
   int num_unknowns() const override { return num_dofs() * num_coefficients(); }
   int num_contacts() const override { return static_cast<int>(model_.contacts.size()); }
   int harmonics() const override { return options_.harmonics; }
+  std::unique_ptr<HarmonicBalance> WithFewerHarmonics(int harmonics) const override;
   // Index in x of coefficient j (0: static, 2h−1: cos h, 2h: sin h) of DOF d.
   int Index(int dof, int coefficient) const { return coefficient * num_dofs() + dof; }
 

@@ -14,13 +14,13 @@ namespace fricrom {
 // The contact force F = N·normal + T·tangent acts on B; −F acts on A.
 struct Contact {
   std::string name;
-  std::vector<int> dofs_a;  // DOF indices of side A along each space direction; −1 = ground
-  std::vector<int> dofs_b;  // DOF indices of side B; −1 = ground
-  Eigen::VectorXd normal;   // unit vector, pointing from A into B, same length as dofs_a
-  Eigen::VectorXd tangent;  // unit vector, orthogonal to normal
-  double kn = 0.0;          // normal contact stiffness [N/m]
-  double kt = 0.0;          // tangential contact stiffness [N/m]
-  double mu = 0.0;          // friction coefficient [-]
+  std::vector<int> dofs_a;      // DOF indices of side A along each space direction; −1 = ground
+  std::vector<int> dofs_b;      // DOF indices of side B; −1 = ground
+  Eigen::VectorXd normal;       // unit vector, pointing from A into B, same length as dofs_a
+  Eigen::VectorXd tangent;      // unit vector, orthogonal to normal
+  double kn = 0.0;              // normal contact stiffness [N/m]
+  double kt = 0.0;              // tangential contact stiffness [N/m]
+  double mu = 0.0;              // friction coefficient [-]
   double normal_preload = 0.0;  // N0 [N] added to kn·v (0 in the coupled static/dynamic approach)
 };
 

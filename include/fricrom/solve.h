@@ -20,7 +20,7 @@ class SquareSystem {
   virtual int size() const = 0;
   virtual void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian) const = 0;  // jacobian may be null
-  virtual double ResidualScale() const { return 1.0; }          // tolerances are relative to it
+  virtual double ResidualScale() const { return 1.0; }         // tolerances are relative to it
 };
 
 // R(x, λ) = 0: the family continuation follows.
@@ -70,7 +70,7 @@ struct ContinuationOptions {
   double min_step = 1e-6;
   double max_step = 5e-2;
   int max_points = 5000;
-  int target_iterations = 4;  // corrector iterations the step control aims for
+  int target_iterations = 4;        // corrector iterations the step control aims for
   double turning_tolerance = 1e-4;  // scaled λ retreat that counts as a turning point
   NewtonOptions corrector;
   bool IsValid(std::string* error) const;

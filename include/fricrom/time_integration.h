@@ -55,7 +55,7 @@ struct TimeIntegrationResult {
   // First harmonic of the response DOF over the last period [m]; NaN when no period was
   // integrated (unstable step, failed static state): a failed run is never a number.
   double amplitude = std::numeric_limits<double>::quiet_NaN();
-  int periods = 0;         // periods integrated (ramp included)
+  int periods = 0;  // periods integrated (ramp included)
   int steps = 0;
   double relative_change = 0.0;          // last block-to-block amplitude change / amplitude
   double stability_ratio = 0.0;          // ω_max dt / 2 (< 1 for a stable scheme)
@@ -73,9 +73,10 @@ struct TimeIntegrationResult {
 std::string ToString(TimeIntegrationResult::Status status);
 
 // Integrates the model to a periodic steady state from the static state set by initial_alpha (one
-// value in [−1, 1] per α: per contact, or per group of Model::alpha_group). Throws std::invalid_argument on invalid options, an invalid model
-// (Model::Validate), a non positive definite mass matrix or a bad initial_alpha; numerical outcomes
-// are reported in the result's status. No output is printed.
+// value in [−1, 1] per α: per contact, or per group of Model::alpha_group). Throws
+// std::invalid_argument on invalid options, an invalid model (Model::Validate), a non positive
+// definite mass matrix or a bad initial_alpha; numerical outcomes are reported in the result's
+// status. No output is printed.
 TimeIntegrationResult IntegrateToSteadyState(const Model& model,
                                              const Eigen::VectorXd& initial_alpha,
                                              const TimeIntegrationOptions& options);

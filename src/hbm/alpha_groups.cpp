@@ -66,4 +66,10 @@ double AlphaGroupedBalance::LossFactor(const Eigen::VectorXd& x, double omega,
   return eta;
 }
 
+std::unique_ptr<HarmonicBalance> AlphaGroupedBalance::WithFewerHarmonics(int harmonics) const {
+  std::unique_ptr<HarmonicBalance> inner = inner_->WithFewerHarmonics(harmonics);
+  if (!inner) return nullptr;
+  return std::make_unique<AlphaGroupedBalance>(std::move(inner), group_);
+}
+
 }  // namespace fricrom

@@ -1,10 +1,37 @@
 #include "fricrom/balance.h"
 
+#include <stdexcept>
+#include <string>
+
 #include "fricrom/alpha_groups.h"
 #include "fricrom/condensed.h"
 #include "fricrom/hbm.h"
 
 namespace fricrom {
+
+std::unique_ptr<HarmonicBalance> HarmonicBalance::WithFewerHarmonics(int) const { return nullptr; }
+
+const HarmonicBalance* HarmonicBalance::FirstHarmonicBalance() const {
+  if (!first_harmonic_tried_ && harmonics() > 1) {
+    first_harmonic_tried_ = true;
+    first_harmonic_ = WithFewerHarmonics(1);
+  }
+  return first_harmonic_.get();
+}
+
+Eigen::VectorXd HarmonicBalance::EmbedLowerHarmonics(const Eigen::VectorXd& x_low,
+                                                     int low_harmonics) const {
+  const int nh = 2 * harmonics() + 1, nl = 2 * low_harmonics + 1;
+  const int block = num_unknowns() / nh;
+  if (low_harmonics < 0 || low_harmonics > harmonics() || x_low.size() != block * nl) {
+    throw std::invalid_argument("EmbedLowerHarmonics: x_low has " + std::to_string(x_low.size()) +
+                                " entries, expected " + std::to_string(block) + " x " +
+                                std::to_string(nl) + " coefficients");
+  }
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(num_unknowns());
+  x.head(x_low.size()) = x_low;
+  return x;
+}
 
 std::string ToString(BalanceKind kind) {
   return kind == BalanceKind::kCondensed ? "condensed" : "full";

@@ -93,7 +93,7 @@ CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
   BuildRelativeRows();
   sy_ = nc > 0 ? w_.mean() : std::max(model_.stiffness.diagonal().cwiseAbs().maxCoeff(), 1.0);
   const Eigen::MatrixXd k_stick = model_.stiffness + b_.transpose() * ks_.asDiagonal() * b_;
-  receptance_ = std::make_unique<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
+  receptance_ = std::make_shared<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
                                                      options_.harmonics, options_.receptance);
   std::vector<Eigen::VectorXd> loads;
   for (int h = 0; h <= options_.harmonics; ++h) loads.push_back(Excitation(h));
@@ -101,6 +101,31 @@ CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
   aft_ = std::make_unique<AftContactForces>(options_);
   full_ = std::make_unique<HbmSystem>(model_, options_);
   blocks_.resize(nc);
+}
+
+CondensedSystem::CondensedSystem(const CondensedSystem& higher, int harmonics)
+    : model_(higher.model_),
+      options_(higher.options_),
+      b_(higher.b_),
+      row_t_(higher.row_t_),
+      row_n_(higher.row_n_),
+      ks_(higher.ks_),
+      w_(higher.w_),
+      sy_(higher.sy_),
+      receptance_(higher.receptance_) {
+  options_.harmonics = harmonics;
+  aft_ = std::make_unique<AftContactForces>(options_);
+  full_ = std::make_unique<HbmSystem>(model_, options_);
+  blocks_.resize(num_contacts());
+}
+
+std::unique_ptr<HarmonicBalance> CondensedSystem::WithFewerHarmonics(int harmonics) const {
+  std::string error;
+  if (harmonics < 1 || harmonics >= options_.harmonics ||
+      !LoadsRepresentable(model_, harmonics, &error)) {
+    return nullptr;
+  }
+  return std::unique_ptr<HarmonicBalance>(new CondensedSystem(*this, harmonics));
 }
 
 CondensedSystem::~CondensedSystem() = default;

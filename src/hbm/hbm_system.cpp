@@ -44,7 +44,8 @@ double CycleEnergy::friction_dissipation() const {
 }
 
 double CycleEnergy::loss_factor() const {
-  return (viscous_dissipation + friction_dissipation()) / (2.0 * std::numbers::pi * potential_energy);
+  return (viscous_dissipation + friction_dissipation()) /
+         (2.0 * std::numbers::pi * potential_energy);
 }
 
 namespace {
@@ -116,6 +117,16 @@ HbmSystem::HbmSystem(Model model, const HbmOptions& options)
 
 HbmSystem::~HbmSystem() = default;
 
+std::unique_ptr<HarmonicBalance> HbmSystem::WithFewerHarmonics(int harmonics) const {
+  std::string error;
+  if (harmonics < 1 || harmonics >= options_.harmonics ||
+      !LoadsRepresentable(model_, harmonics, &error)) {
+    return nullptr;
+  }
+  HbmOptions o = options_;
+  o.harmonics = harmonics;
+  return std::make_unique<HbmSystem>(model_, o);
+}
 
 void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                          const HbmRequest& request, HbmEvaluation* out) const {
@@ -187,12 +198,11 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
       const Eigen::MatrixXd& a_tu = w.f.dt_du;
       const Eigen::MatrixXd& a_tv = w.f.dt_dv;
       const Eigen::MatrixXd& a_nv = w.f.dn_dv;
-      for (int i = 0; i < dim; ++i) {      // row direction
-        for (int e = 0; e < dim; ++e) {    // column direction
+      for (int i = 0; i < dim; ++i) {    // row direction
+        for (int e = 0; e < dim; ++e) {  // column direction
           // d(n_i N̂ + t_i T̂)/d(relative displacement along e)
           const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * a_nv +
-                                        c.tangent[i] * (c.tangent[e] * a_tu +
-                                                        c.normal[e] * a_tv);
+                                        c.tangent[i] * (c.tangent[e] * a_tu + c.normal[e] * a_tv);
           const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
           const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
           for (int sr = 0; sr < 2; ++sr) {
@@ -214,8 +224,10 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
       const Eigen::VectorXd& gh = w.f.dt_dalpha;
       for (int i = 0; i < dim; ++i) {
         for (int j = 0; j < nh; ++j) {
-          if (c.dofs_a[i] >= 0) out->alpha_jacobian(Index(c.dofs_a[i], j), ci) += c.tangent[i] * gh[j];
-          if (c.dofs_b[i] >= 0) out->alpha_jacobian(Index(c.dofs_b[i], j), ci) -= c.tangent[i] * gh[j];
+          if (c.dofs_a[i] >= 0)
+            out->alpha_jacobian(Index(c.dofs_a[i], j), ci) += c.tangent[i] * gh[j];
+          if (c.dofs_b[i] >= 0)
+            out->alpha_jacobian(Index(c.dofs_b[i], j), ci) -= c.tangent[i] * gh[j];
         }
       }
     }

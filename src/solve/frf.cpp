@@ -1,22 +1,24 @@
 #include "fricrom/frf.h"
-#include "fricrom/units.h"
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
+#include "fricrom/units.h"
+
 namespace fricrom {
 namespace {
 
-std::vector<ContactRegime> Regimes(const HarmonicBalance& system, const Eigen::VectorXd& x, double omega,
-                                   const Eigen::VectorXd& alpha) {
+std::vector<ContactRegime> Regimes(const HarmonicBalance& system, const Eigen::VectorXd& x,
+                                   double omega, const Eigen::VectorXd& alpha) {
   std::vector<ContactRegime> out;
   for (const ContactHistory& h : system.ContactHistories(x, omega, alpha)) out.push_back(h.regime);
   return out;
 }
 
-ContinuationOptions MakeContinuationOptions(const HarmonicBalance& system, const FrfOptions& options,
-                                            double f0, double f1, const Eigen::VectorXd& x0) {
+ContinuationOptions MakeContinuationOptions(const HarmonicBalance& system,
+                                            const FrfOptions& options, double f0, double f1,
+                                            const Eigen::VectorXd& x0) {
   ContinuationOptions c;
   c.lambda_start = kTwoPi * f0;
   c.lambda_end = kTwoPi * f1;
@@ -44,7 +46,8 @@ bool FrfOptions::IsValid(std::string* error) const {
   return newton.IsValid(error);
 }
 
-HbmAtFrequency::HbmAtFrequency(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha)
+HbmAtFrequency::HbmAtFrequency(const HarmonicBalance& system, double omega,
+                               const Eigen::VectorXd& alpha)
     : system_(system), omega_(omega), alpha_(alpha) {}
 int HbmAtFrequency::size() const { return system_.num_unknowns(); }
 void HbmAtFrequency::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r,
@@ -74,8 +77,8 @@ void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen:
 }
 double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(); }
 
-HbmAlphaPath::HbmAlphaPath(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha0,
-                           const Eigen::VectorXd& alpha1)
+HbmAlphaPath::HbmAlphaPath(const HarmonicBalance& system, double omega,
+                           const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1)
     : system_(system), omega_(omega), alpha0_(alpha0), alpha1_(alpha1) {}
 int HbmAlphaPath::size() const { return system_.num_unknowns(); }
 void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r,
@@ -161,8 +164,9 @@ bool NewtonFromStarts(const HarmonicBalance& system, const Eigen::VectorXd& alph
 
 }  // namespace
 
-FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double freq_hz,
-                          const Eigen::VectorXd& x_start, const FrfOptions& options) {
+FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                          double freq_hz, const Eigen::VectorXd& x_start,
+                          const FrfOptions& options) {
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
     throw std::invalid_argument("SolveAtFrequency: frequency must be positive, got " +
                                 std::to_string(freq_hz));
@@ -171,7 +175,15 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   FrfPoint p;
   p.freq_hz = freq_hz;
   std::vector<Eigen::VectorXd> starts;
-  if (x_start.size() > 0) starts.push_back(x_start);
+  if (x_start.size() > 0) {
+    starts.push_back(x_start);
+  } else if (const HarmonicBalance* first = system.FirstHarmonicBalance()) {
+    // Harmonic continuation (harmonic_balance.h): the H = 1 solution as the cold start.
+    const FrfPoint p1 = SolveAtFrequency(*first, alpha, freq_hz, Eigen::VectorXd(), options);
+    p.iterations += p1.iterations;
+    if (p1.status == SolverStatus::kConverged)
+      starts.push_back(system.EmbedLowerHarmonics(p1.x, 1));
+  }
   starts.push_back(system.StickLinearSolution(omega));
   NewtonSummary ns;
   bool ok = NewtonFromStarts(system, alpha, omega, starts, options, &p.x, &p.iterations, &ns);
@@ -215,7 +227,8 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   return p;
 }
 
-std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system,
+                                         const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
                                          const FrfOptions& options, const FrfProgress& progress) {
   std::string error;

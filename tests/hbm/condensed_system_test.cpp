@@ -265,5 +265,64 @@ TEST(Condensed, FiftyPairAssemblyMatchesTheFullBalance) {
   EXPECT_GE(seen.size(), 3u);  // stick and both slip directions at least
 }
 
+// Harmonic continuation: the H = 1 sibling of an H = 3 system (sharing its receptance) is the
+// H = 1 system, and the H = 3 cold solve started from its solution reaches the solution Newton
+// finds from the stick start (the same point), in fewer H = 3 iterations (4 against 19-21 on this
+// 50-pair strip; on some strips, e.g. 20 or 40 pairs, Newton at H = 3 fails from both starts and
+// the solvers' homotopies take over).
+TEST(Condensed, HarmonicContinuationStartsFromTheFirstHarmonicSolution) {
+  const Model model = testing::ContactStrip(50);
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(50, -0.9, 0.9);
+  for (ReceptanceMethod method : {ReceptanceMethod::kDense, ReceptanceMethod::kModal}) {
+    CondensedSystem h3(model, HbmOptions{3, 64, method});
+    CondensedSystem h1(model, HbmOptions{1, 64, method});
+    const HarmonicBalance* first = h3.FirstHarmonicBalance();
+    ASSERT_NE(first, nullptr);
+    EXPECT_EQ(first, h3.FirstHarmonicBalance());  // built once
+    EXPECT_EQ(first->harmonics(), 1);
+    ASSERT_EQ(first->num_unknowns(), h1.num_unknowns());
+    EXPECT_EQ(h1.FirstHarmonicBalance(), nullptr);
+    const double w = kTwoPi * 1000.0;
+    const Eigen::VectorXd x1 = h1.StickLinearSolution(w) * 1.3;
+    HbmEvaluation a, b;
+    const HbmRequest all{true, true, true};
+    first->Evaluate(x1, w, alpha, all, &a);
+    h1.Evaluate(x1, w, alpha, all, &b);
+    EXPECT_LE((a.residual - b.residual).norm(), 1e-12 * b.residual.norm());
+    EXPECT_LE((a.jacobian - b.jacobian).norm(), 1e-12 * b.jacobian.norm());
+    EXPECT_LE((a.alpha_jacobian - b.alpha_jacobian).norm(), 1e-12 * b.alpha_jacobian.norm());
+    // Embedding: the H = 1 coefficients in front, zeros for harmonics 2 and 3.
+    const Eigen::VectorXd e = h3.EmbedLowerHarmonics(x1, 1);
+    EXPECT_EQ(e.head(x1.size()), x1);
+    EXPECT_TRUE(e.tail(e.size() - x1.size()).isZero());
+    EXPECT_THROW(h3.EmbedLowerHarmonics(e, 1), std::invalid_argument);
+
+    const FrfPoint cont = SolveAtFrequency(h3, alpha, 1000.0, Eigen::VectorXd(), FrfOptions{});
+    const FrfPoint p1 = SolveAtFrequency(*first, alpha, 1000.0, Eigen::VectorXd(), FrfOptions{});
+    const NewtonOptions newton = FrfOptions{}.newton;
+    Eigen::VectorXd x = h3.StickLinearSolution(w), xc = h3.EmbedLowerHarmonics(p1.x, 1);
+    const NewtonSummary cold = SolveNewton(HbmAtFrequency(h3, w, alpha), newton, &x);
+    const NewtonSummary warm = SolveNewton(HbmAtFrequency(h3, w, alpha), newton, &xc);
+    ASSERT_EQ(cont.status, SolverStatus::kConverged);
+    ASSERT_TRUE(cold.IsSolutionUsable() && warm.IsSolutionUsable());
+    EXPECT_LE((cont.x - x).norm(), 1e-8 * x.norm());
+    EXPECT_EQ(cont.iterations, p1.iterations + warm.iterations);  // the route SolveAtFrequency took
+    EXPECT_LT(warm.iterations, cold.iterations);
+    // Cost in LU work (iterations x unknowns³): the H = 1 iterations are the cheap ones.
+    const double n1 = first->num_unknowns(), n3 = h3.num_unknowns();
+    EXPECT_LT(p1.iterations * n1 * n1 * n1 + warm.iterations * n3 * n3 * n3,
+              0.5 * cold.iterations * n3 * n3 * n3);
+  }
+  // Loads at a harmonic the sibling would drop: no sibling.
+  Model m3 = model;
+  HarmonicLoad l3 = m3.loads[0];
+  l3.harmonic = 3;
+  m3.loads.push_back(l3);
+  CondensedSystem with_h3_load(m3, HbmOptions{3, 64});
+  EXPECT_EQ(with_h3_load.FirstHarmonicBalance(), nullptr);
+  HbmSystem full(m3, HbmOptions{3, 64});
+  EXPECT_EQ(full.FirstHarmonicBalance(), nullptr);
+}
+
 }  // namespace
 }  // namespace fricrom
