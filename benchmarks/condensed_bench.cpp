@@ -5,9 +5,9 @@
 
 #include <numbers>
 
-#include "fricrom/condensed.h"
+#include "fricrom/condensed_system.h"
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "test_models.h"
 
 namespace {

@@ -4,9 +4,9 @@
 
 #include "fricrom/balance.h"
 #include "fricrom/bounds.h"
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/design.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 
 namespace {
 

@@ -4,9 +4,9 @@
 
 #include <numbers>
 
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 
 namespace {
 
@@ -14,8 +14,7 @@ using namespace fricrom;
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
 const Case& Baseline() {
-  static const Case c =
-      LoadCase(std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml");
+  static const Case c = LoadCase(std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml");
   return c;
 }
 
@@ -84,8 +83,8 @@ void BM_FrfContinuation(benchmark::State& state) {
   opt.max_step = 0.02;
   size_t points = 0;
   for (auto _ : state) {
-    const FrfTrace tr = TraceFrf(sys, Eigen::Vector4d::Zero(), c.analysis.freq_min_hz,
-                                 c.analysis.freq_max_hz, opt);
+    const FrfTrace tr =
+        TraceFrf(sys, Eigen::Vector4d::Zero(), c.analysis.freq_min_hz, c.analysis.freq_max_hz, opt);
     points = tr.points.size();
     benchmark::DoNotOptimize(tr.points.data());
   }

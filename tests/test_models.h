@@ -4,7 +4,8 @@
 #include <algorithm>
 #include <string>
 
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
+#include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom::testing {
@@ -122,6 +123,26 @@ inline Model ContactStrip(int pairs, double force = 40.0) {
   m.loads = {stat, dyn};
   m.response_dof = dof(0, pairs / 2, 0);
   return m;
+}
+
+// Nonzeros of an evaluated [∂R/∂x | ∂R/∂α] that the balance's structural pattern leaves out
+// (a sparse solver given the pattern would silently drop them), and the pattern's duplicates.
+inline int EntriesOutsidePattern(const JacobianPattern& p, const HbmEvaluation& e) {
+  const Eigen::Index nx = e.jacobian.rows(), n = nx + e.alpha_jacobian.cols();
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic> count =
+      Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic>::Zero(nx, n);
+  int bad = 0;
+  for (int k = 0; k < p.nnz(); ++k) {
+    const int r = p.rows[static_cast<size_t>(k)], c = p.cols[static_cast<size_t>(k)];
+    if (r < 0 || r >= nx || c < 0 || c >= n || ++count(r, c) > 1) ++bad;
+  }
+  for (Eigen::Index c = 0; c < n; ++c) {
+    for (Eigen::Index r = 0; r < nx; ++r) {
+      const double v = c < nx ? e.jacobian(r, c) : e.alpha_jacobian(r, c - nx);
+      if (v != 0.0 && count(r, c) == 0) ++bad;
+    }
+  }
+  return bad;
 }
 
 }  // namespace fricrom::testing

@@ -30,6 +30,7 @@ class AlphaGroupedBalance final : public HarmonicBalance {
   void Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                 const HbmRequest& request, HbmEvaluation* out) const override;
   double ResidualScale() const override { return inner_->ResidualScale(); }
+  JacobianPattern StructuralPattern() const override;
   Eigen::VectorXd StickLinearSolution(double omega) const override {
     return inner_->StickLinearSolution(omega);
   }

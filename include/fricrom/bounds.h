@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/contact.h"
+#include "fricrom/contact_law.h"
 #include "fricrom/harmonic_balance.h"
 
 namespace fricrom {

@@ -8,7 +8,7 @@
 #include <Eigen/Dense>
 #include <memory>
 
-#include "fricrom/contact.h"
+#include "fricrom/contact_law.h"
 #include "fricrom/harmonic_balance.h"
 
 namespace fricrom {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/contact.h"
+#include "fricrom/contact_law.h"
 
 namespace fricrom {
 
@@ -66,6 +66,13 @@ struct CycleEnergy {
   double loss_factor() const;
 };
 
+// Entries of [∂R/∂x | ∂R/∂α] that can be nonzero at some (x, ω, α): the fixed structure handed to
+// sparse solvers (Ipopt). Column c < num_unknowns() is x_c, column num_unknowns() + g is α_g.
+struct JacobianPattern {
+  std::vector<int> rows, cols;  // one entry per structural nonzero, no duplicates
+  int nnz() const { return static_cast<int>(rows.size()); }
+};
+
 class HarmonicBalance {
  public:
   virtual ~HarmonicBalance() = default;
@@ -98,6 +105,11 @@ class HarmonicBalance {
                                                        const Eigen::VectorXd& alpha) const = 0;
   virtual CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
                                const Eigen::VectorXd& alpha) const = 0;
+
+  // Structural nonzeros of the Jacobians (dense unless a balance knows better; the condensed
+  // balance is dense through the receptance, the full one is as sparse as K, M, C and the
+  // contacts' DOFs).
+  virtual JacobianPattern StructuralPattern() const;
 
   // Harmonic continuation: the same problem with fewer harmonics (1 ≤ harmonics < harmonics()),
   // cheap to build (it may share this one's linear part). From the stick start, Newton at H = 3

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/contact.h"
+#include "fricrom/contact_law.h"
 #include "fricrom/model.h"
 
 namespace fricrom {

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "fricrom/balance.h"
-#include "fricrom/case.h"
-#include "fricrom/contact.h"
-#include "fricrom/hbm.h"
+#include "fricrom/case_file.h"
+#include "fricrom/contact_law.h"
+#include "fricrom/hbm_system.h"
 #include "io/hdf5_file.h"
 
 namespace fricrom::app {

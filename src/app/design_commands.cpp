@@ -20,7 +20,7 @@
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "fricrom/linear.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"

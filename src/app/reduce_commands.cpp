@@ -271,7 +271,7 @@ struct ReduceCommands::State {
     CraigBamptonOptions opt;
     opt.num_modes = modes > 0 ? modes : 20;
     opt.cutoff_hz = cutoff_hz;
-    opt.shift = shift_hz > 0 ? -std::pow(kTwoPi * shift_hz, 2) : 0.0;
+    opt.shift = shift_hz > 0 ? -EigenvalueFromHz(shift_hz) : 0.0;
     opt.check_tolerance = check_tolerance;
     std::string err;
     if (!opt.IsValid(&err)) throw CLI::ValidationError("reduce", err);
@@ -461,7 +461,7 @@ struct ReduceCommands::State {
                 {"modes", n - nb},
                 {"checks", ChecksJson(ch, check_tolerance)}};
     std::vector<double> fq;
-    for (int j = nb; j < n; ++j) fq.push_back(std::sqrt(std::max(kr(j, j), 0.0)) / kTwoPi);
+    for (int j = nb; j < n; ++j) fq.push_back(HzFromEigenvalue(kr(j, j)));
     out["fixed_interface_hz"] = fq;
     bool ok = ch.Max() <= check_tolerance;
     try {

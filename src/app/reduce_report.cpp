@@ -38,8 +38,6 @@ double RigidResidual(const Eigen::SparseMatrix<double>& k, const Eigen::MatrixXd
   return kr.cwiseAbs().maxCoeff() / std::max(kmax * r.cwiseAbs().maxCoeff(), 1e-300);
 }
 
-double Hz(double lambda) { return std::sqrt(std::max(lambda, 0.0)) / kTwoPi; }
-
 // Full-model modes against the reduced eigenvalues; fills the table and the failure reason.
 void EigenTable(const ReferenceInput& in, const Eigen::VectorXd& reduced_lambda,
                 const std::function<void(const std::string&)>& progress, ReferenceReport* rep) {
@@ -50,7 +48,7 @@ void EigenTable(const ReferenceInput& in, const Eigen::VectorXd& reduced_lambda,
   if (count < 0) {
     count = 0;
     for (Eigen::Index j = 0; j < reduced_lambda.size(); ++j)
-      count += Hz(reduced_lambda(j)) <= f_top;
+      count += HzFromEigenvalue(reduced_lambda(j)) <= f_top;
     count = std::clamp(count, 1, 60);
   }
   count = std::min<int>(count, static_cast<int>(reduced_lambda.size()));
@@ -67,13 +65,12 @@ void EigenTable(const ReferenceInput& in, const Eigen::VectorXd& reduced_lambda,
   rep->shift = full.shift_used;
   // Rigid-body (zero) modes: compared absolutely against the highest eigenvalue of the table or
   // of the kept fixed-interface modes (a table of rigid modes only has no elastic scale).
-  const double lam_scale =
-      std::max({std::abs(full.lambda(full.lambda.size() - 1)), std::abs(full.shift_used),
-                std::pow(kTwoPi * f_top, 2), 1e-300});
+  const double lam_scale = std::max({std::abs(full.lambda(full.lambda.size() - 1)),
+                                     std::abs(full.shift_used), EigenvalueFromHz(f_top), 1e-300});
   for (int j = 0; j < full.lambda.size(); ++j) {
     const double lf = full.lambda(j), lr = reduced_lambda(j);
     const bool rigid_mode = std::abs(lf) < 1e-8 * lam_scale;
-    const double ff = Hz(lf), fr = Hz(lr);
+    const double ff = HzFromEigenvalue(lf), fr = HzFromEigenvalue(lr);
     const double e = rigid_mode ? std::abs(lr - lf) / lam_scale : std::abs(fr - ff) / ff;
     rep->table.push_back({{"mode", j + 1},
                           {"full_hz", ff},

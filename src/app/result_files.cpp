@@ -27,7 +27,7 @@ json Num(double v) { return NumberOrNull(v); }
 static void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBalance& system,
                            const BoundSolution& s, double freq_hz) {
   if (!s.IsUsable()) return;
-  const auto hist = system.ContactHistories(s.x, kTwoPi * freq_hz, s.alpha);
+  const auto hist = system.ContactHistories(s.x, RadPerS(freq_hz), s.alpha);
   const int nc = static_cast<int>(hist.size());
   const int n = static_cast<int>(hist[0].time_s.size());
   Eigen::MatrixXd t(nc, n), nn(nc, n), st(nc, n);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fricrom/bounds.h"
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/design.h"
 #include "fricrom/harmonic_balance.h"
 

@@ -100,7 +100,7 @@ bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::Vect
     *x = pts.back().x;
     return true;
   }
-  const HbmAtFrequency at(sys, kTwoPi * freq_hz, alpha);
+  const HbmAtFrequency at(sys, RadPerS(freq_hz), alpha);
   for (auto it = other_starts.rbegin(); it != other_starts.rend(); ++it) {
     *x = *it;
     if (SolveNewton(at, frf.newton, x).IsSolutionUsable()) return true;

@@ -260,7 +260,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                                 std::to_string(seeds.empty() ? 0 : seeds[0].size()) +
                                 " entries, the system has " + std::to_string(nc) + " contacts");
   }
-  const double omega = kTwoPi * freq_hz;
+  const double omega = RadPerS(freq_hz);
 
   BoundsResult result;
   result.freq_hz = freq_hz;

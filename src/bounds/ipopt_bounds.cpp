@@ -30,7 +30,7 @@ constexpr double kSlowProgress = 1e-5;
 class BoundsNlp : public Ipopt::TNLP {
  public:
   explicit BoundsNlp(const HarmonicBalance& system)
-      : nx_(system.num_unknowns()), nc_(system.num_alpha()) {}
+      : nx_(system.num_unknowns()), nc_(system.num_alpha()), pattern_(system.StructuralPattern()) {}
 
   // Prepares the next run (the structure never changes, so Ipopt can re-optimise this object).
   void Reset(const RunSetup& setup, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0) {
@@ -50,7 +50,7 @@ class BoundsNlp : public Ipopt::TNLP {
                     Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) override {
     n = nx_ + nc_;
     m = nx_;
-    nnz_jac_g = nx_ * (nx_ + nc_);
+    nnz_jac_g = pattern_.nnz();
     nnz_h_lag = 0;
     index_style = C_STYLE;
     return true;
@@ -106,24 +106,18 @@ class BoundsNlp : public Ipopt::TNLP {
 
   bool eval_jac_g(Ipopt::Index, const Ipopt::Number* z, bool new_z, Ipopt::Index, Ipopt::Index,
                   Ipopt::Index* rows, Ipopt::Index* cols, Ipopt::Number* values) override {
-    const int n = nx_ + nc_;
-    if (values == nullptr) {  // dense structure, row-major
-      for (int i = 0; i < nx_; ++i) {
-        for (int j = 0; j < n; ++j) {
-          rows[i * n + j] = i;
-          cols[i * n + j] = j;
-        }
-      }
+    if (values == nullptr) {  // the balance's structural pattern (dense for condensed ones)
+      std::copy(pattern_.rows.begin(), pattern_.rows.end(), rows);
+      std::copy(pattern_.cols.begin(), pattern_.cols.end(), cols);
       return true;
     }
     if (!Update(z, new_z, true)) return false;
-    for (int i = 0; i < nx_; ++i) {
-      for (int j = 0; j < nx_; ++j) {
-        values[i * n + j] = eval_.jacobian(i, j) * s_.x_scale[j] / s_.residual_scale;
-      }
-      for (int c = 0; c < nc_; ++c) {
-        values[i * n + nx_ + c] = eval_.alpha_jacobian(i, c) / s_.residual_scale;
-      }
+    for (int k = 0; k < pattern_.nnz(); ++k) {
+      const int i = pattern_.rows[static_cast<size_t>(k)],
+                j = pattern_.cols[static_cast<size_t>(k)];
+      values[k] =
+          (j < nx_ ? eval_.jacobian(i, j) * s_.x_scale[j] : eval_.alpha_jacobian(i, j - nx_)) /
+          s_.residual_scale;
     }
     return true;
   }
@@ -228,6 +222,7 @@ class BoundsNlp : public Ipopt::TNLP {
 
   RunSetup s_;
   int nx_, nc_;
+  JacobianPattern pattern_;  // fixed structure of [∂R/∂x | ∂R/∂α]
   Eigen::VectorXd x0_, alpha0_;
   Eigen::VectorXd x_, alpha_;
   HbmEvaluation eval_;

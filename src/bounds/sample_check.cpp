@@ -57,7 +57,7 @@ struct SampleCandidates {
 SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
                              const BoundsOptions& options, BoundsResult* result) {
   const int nc = system.num_alpha();
-  const double omega = kTwoPi * freq_hz;
+  const double omega = RadPerS(freq_hz);
   std::mt19937 rng(options.sample_seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Eigen::VectorXd warm = result->min.IsUsable() ? result->min.x : Eigen::VectorXd();
@@ -111,7 +111,7 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
 
   const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);
   if (!c.have_low && !c.have_high) return result;
-  const double omega = kTwoPi * freq_hz;
+  const double omega = RadPerS(freq_hz);
   std::vector<Eigen::VectorXd> restart;
   if (c.have_low) restart.push_back(c.alpha_low);
   if (c.have_high) restart.push_back(c.alpha_high);

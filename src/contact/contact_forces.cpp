@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "fricrom/units.h"
+
 namespace fricrom {
 namespace {
 
@@ -47,7 +49,7 @@ struct AftContactForces::Plans {
     synthesis.resize(n, nh);
     analysis.resize(nh, n);
     for (int k = 0; k < n; ++k) {
-      const double theta = 2.0 * std::numbers::pi * k / n;
+      const double theta = kTwoPi * k / n;
       synthesis(k, 0) = 1.0;
       analysis(0, k) = 1.0 / n;
       for (int h = 1; h <= harmonics; ++h) {

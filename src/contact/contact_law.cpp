@@ -1,8 +1,8 @@
+#include "fricrom/contact_law.h"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
-
-#include "fricrom/contact.h"
 
 namespace fricrom {
 
@@ -25,9 +25,12 @@ std::string ToString(ContactRegime regime) {
 ContactRegime ClassifyRegime(const std::vector<ContactState>& states) {
   int stick = 0, slip = 0, lift = 0;
   for (ContactState s : states) {
-    if (s == ContactState::kStick) ++stick;
-    else if (s == ContactState::kLiftOff) ++lift;
-    else ++slip;
+    if (s == ContactState::kStick)
+      ++stick;
+    else if (s == ContactState::kLiftOff)
+      ++lift;
+    else
+      ++slip;
   }
   const int n = static_cast<int>(states.size());
   if (lift == n) return ContactRegime::kFullLiftOff;
@@ -35,6 +38,25 @@ ContactRegime ClassifyRegime(const std::vector<ContactState>& states) {
   if (stick == n) return ContactRegime::kFullStick;
   if (slip == n) return ContactRegime::kFullSlip;
   return ContactRegime::kStickSlip;
+}
+
+ContactStep AdvanceContact(const ContactLawParams& p, double tangential_prev,
+                           double tangential_increment, double normal_gap) {
+  ContactStep out;
+  out.normal = std::max(p.normal_preload + p.kn * normal_gap, 0.0);
+  if (out.normal <= 0.0) {
+    out.state = ContactState::kLiftOff;
+    return out;
+  }
+  const double predictor = tangential_prev + p.kt * tangential_increment;
+  const double limit = p.mu * out.normal;
+  if (std::abs(predictor) <= limit * (1.0 + 1e-12)) {
+    out.tangential = predictor;
+    return out;
+  }
+  out.tangential = predictor > 0.0 ? limit : -limit;
+  out.state = predictor > 0.0 ? ContactState::kSlipPositive : ContactState::kSlipNegative;
+  return out;
 }
 
 void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
@@ -83,34 +105,20 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
   for (int step = 1; step < 2 * n; ++step) {
     const int k = step % n;
     const int km1 = (step - 1) % n;
-    const double nk = normal_at(k);
+    const ContactStep at = AdvanceContact(p, t_prev, u[k] - u[km1], v[k]);
+    const double nk = at.normal, tk = at.tangential;
+    const ContactState state = at.state;
     const bool record = step >= n;
-    double tk;
-    ContactState state;
-    if (nk <= 0.0) {
-      tk = 0.0;
-      state = ContactState::kLiftOff;
+    if (state == ContactState::kLiftOff) {
       anchor_kind = Anchor::kLiftOff;
       anchor = k;
       anchor_dv = 0.0;
       anchor_dalpha = 0.0;
-    } else {
-      const double predictor = t_prev + p.kt * (u[k] - u[km1]);
-      const double limit = p.mu * nk;
-      // A relative tolerance keeps round-off from deciding stick or slip when the periodic
-      // force just touches the Coulomb limit (mirror-symmetric contacts must agree).
-      if (std::abs(predictor) <= limit * (1.0 + 1e-12)) {
-        tk = predictor;
-        state = ContactState::kStick;
-      } else {
-        const double sign = predictor > 0.0 ? 1.0 : -1.0;
-        tk = sign * limit;
-        state = sign > 0.0 ? ContactState::kSlipPositive : ContactState::kSlipNegative;
-        anchor_kind = Anchor::kSlip;
-        anchor = k;
-        anchor_dv = (p.normal_preload + p.kn * v[k] > 0.0) ? sign * p.mu * p.kn : 0.0;
-        anchor_dalpha = 0.0;
-      }
+    } else if (state != ContactState::kStick) {
+      anchor_kind = Anchor::kSlip;
+      anchor = k;
+      anchor_dv = (state == ContactState::kSlipPositive ? 1.0 : -1.0) * p.mu * p.kn;
+      anchor_dalpha = 0.0;
     }
     if (record) {
       r.tangential[k] = tk;

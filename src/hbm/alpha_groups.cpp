@@ -1,5 +1,6 @@
 #include "fricrom/alpha_groups.h"
 
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -70,6 +71,28 @@ std::unique_ptr<HarmonicBalance> AlphaGroupedBalance::WithFewerHarmonics(int har
   std::unique_ptr<HarmonicBalance> inner = inner_->WithFewerHarmonics(harmonics);
   if (!inner) return nullptr;
   return std::make_unique<AlphaGroupedBalance>(std::move(inner), group_);
+}
+
+JacobianPattern AlphaGroupedBalance::StructuralPattern() const {
+  // x columns as the inner balance's; a group's α column is the union of its contacts' columns.
+  const JacobianPattern inner = inner_->StructuralPattern();
+  const int nx = num_unknowns();
+  JacobianPattern p;
+  std::set<std::pair<int, int>> alpha_entries;  // (column, row), column-major like the inner
+  for (int k = 0; k < inner.nnz(); ++k) {
+    const int r = inner.rows[static_cast<size_t>(k)], c = inner.cols[static_cast<size_t>(k)];
+    if (c < nx) {
+      p.rows.push_back(r);
+      p.cols.push_back(c);
+    } else {
+      alpha_entries.emplace(nx + group_[static_cast<size_t>(c - nx)], r);
+    }
+  }
+  for (const auto& [c, r] : alpha_entries) {
+    p.rows.push_back(r);
+    p.cols.push_back(c);
+  }
+  return p;
 }
 
 }  // namespace fricrom

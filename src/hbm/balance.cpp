@@ -4,12 +4,26 @@
 #include <string>
 
 #include "fricrom/alpha_groups.h"
-#include "fricrom/condensed.h"
-#include "fricrom/hbm.h"
+#include "fricrom/condensed_system.h"
+#include "fricrom/hbm_system.h"
 
 namespace fricrom {
 
 std::unique_ptr<HarmonicBalance> HarmonicBalance::WithFewerHarmonics(int) const { return nullptr; }
+
+JacobianPattern HarmonicBalance::StructuralPattern() const {
+  const int nx = num_unknowns(), n = nx + num_alpha();
+  JacobianPattern p;
+  p.rows.reserve(static_cast<size_t>(nx) * static_cast<size_t>(n));
+  p.cols.reserve(p.rows.capacity());
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < n; ++j) {
+      p.rows.push_back(i);
+      p.cols.push_back(j);
+    }
+  }
+  return p;
+}
 
 const HarmonicBalance* HarmonicBalance::FirstHarmonicBalance() const {
   if (!first_harmonic_tried_ && harmonics() > 1) {

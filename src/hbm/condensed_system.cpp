@@ -1,3 +1,5 @@
+#include "fricrom/condensed_system.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -5,9 +7,8 @@
 #include <string>
 #include <utility>
 
-#include "fricrom/condensed.h"
 #include "fricrom/contact_forces.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "linear/harmonic_receptance.h"
 
 namespace fricrom {

@@ -1,10 +1,13 @@
+#include "fricrom/hbm_system.h"
+
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <string>
 
 #include "fricrom/contact_forces.h"
-#include "fricrom/hbm.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 
@@ -44,8 +47,7 @@ double CycleEnergy::friction_dissipation() const {
 }
 
 double CycleEnergy::loss_factor() const {
-  return (viscous_dissipation + friction_dissipation()) /
-         (2.0 * std::numbers::pi * potential_energy);
+  return (viscous_dissipation + friction_dissipation()) / (kTwoPi * potential_energy);
 }
 
 namespace {
@@ -126,6 +128,59 @@ std::unique_ptr<HarmonicBalance> HbmSystem::WithFewerHarmonics(int harmonics) co
   HbmOptions o = options_;
   o.harmonics = harmonics;
   return std::make_unique<HbmSystem>(model_, o);
+}
+
+JacobianPattern HbmSystem::StructuralPattern() const {
+  // Column-wise sets of rows: the linear blocks per harmonic (K at h = 0; K, M on the diagonal
+  // blocks and C on the cos/sin coupling blocks at h ≥ 1), then every coefficient of every DOF of
+  // a contact against every coefficient of that contact's DOFs (the AFT couples harmonics), and
+  // each α against the coefficients of the DOFs its tangent moves.
+  const int n = num_dofs(), nh = num_coefficients(), nx = num_unknowns();
+  std::vector<std::set<int>> col_rows(static_cast<size_t>(nx + num_contacts()));
+  auto add = [&](int row, int col) { col_rows[static_cast<size_t>(col)].insert(row); };
+  const Eigen::MatrixXd& K = model_.stiffness;
+  const Eigen::MatrixXd& M = model_.mass;
+  const Eigen::MatrixXd& C = model_.damping;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < n; ++k) {
+      const bool km = K(i, k) != 0.0 || M(i, k) != 0.0, c = C(i, k) != 0.0;
+      if (K(i, k) != 0.0) add(Index(i, 0), Index(k, 0));
+      for (int h = 1; h <= options_.harmonics; ++h) {
+        const int a = 2 * h - 1, b = 2 * h;
+        if (km) add(Index(i, a), Index(k, a)), add(Index(i, b), Index(k, b));
+        if (c) add(Index(i, a), Index(k, b)), add(Index(i, b), Index(k, a));
+      }
+    }
+  }
+  for (int ci = 0; ci < num_contacts(); ++ci) {
+    const Contact& ct = model_.contacts[static_cast<size_t>(ci)];
+    std::vector<int> dofs, moved;  // the contact's DOFs; those its tangent moves
+    for (size_t i = 0; i < ct.dofs_a.size(); ++i) {
+      for (const int d : {ct.dofs_a[i], ct.dofs_b[i]}) {
+        if (d < 0) continue;
+        dofs.push_back(d);
+        if (ct.tangent[static_cast<Eigen::Index>(i)] != 0.0) moved.push_back(d);
+      }
+    }
+    for (const int r : dofs) {
+      for (const int c : dofs) {
+        for (int j = 0; j < nh; ++j) {
+          for (int l = 0; l < nh; ++l) add(Index(r, j), Index(c, l));
+        }
+      }
+    }
+    for (const int r : moved) {
+      for (int j = 0; j < nh; ++j) add(Index(r, j), nx + ci);
+    }
+  }
+  JacobianPattern p;
+  for (size_t c = 0; c < col_rows.size(); ++c) {
+    for (const int r : col_rows[c]) {
+      p.rows.push_back(r);
+      p.cols.push_back(static_cast<int>(c));
+    }
+  }
+  return p;
 }
 
 void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
@@ -295,7 +350,7 @@ std::vector<ContactHistory> HbmSystem::ContactHistories(const Eigen::VectorXd& x
   CheckInputs(*this, x, alpha);
   Workspace& w = *work_;
   std::vector<ContactHistory> out;
-  const double period = 2.0 * std::numbers::pi / omega;
+  const double period = kTwoPi / omega;
   for (int ci = 0; ci < num_contacts(); ++ci) {
     const Contact& c = model_.contacts[ci];
     ContactHistory hist;

@@ -1,7 +1,7 @@
 // Loss factor of an HbmSystem solution with its exact gradient (the bounds' η objective).
 #include <numbers>
 
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 
 namespace fricrom {
 namespace {

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "fricrom/units.h"
+
 namespace fricrom {
 namespace {
 
@@ -38,7 +40,7 @@ ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd
     throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");
   }
   ModalResult result;
-  result.frequencies_hz = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt() / (2.0 * std::numbers::pi);
+  result.frequencies_hz = solver.eigenvalues().unaryExpr(&HzFromEigenvalue);
   result.shapes = solver.eigenvectors();
   return result;
 }
@@ -68,7 +70,7 @@ std::vector<double> ModalAmplitude(const Eigen::MatrixXd& k, const Eigen::Matrix
       phi.row(response).transpose().cast<std::complex<double>>().cwiseProduct(phi.transpose() * f);
   std::vector<double> amp;
   for (double fhz : freqs_hz) {
-    const double w = 2.0 * std::numbers::pi * fhz;
+    const double w = RadPerS(fhz);
     std::complex<double> q = 0.0;
     for (Eigen::Index i = 0; i < weight.size(); ++i) {
       q += weight[i] / std::complex<double>(es.eigenvalues()[i] - w * w, w * cm[i]);
@@ -105,7 +107,7 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
   std::vector<double> amp;
   amp.reserve(freqs_hz.size());
   for (double fhz : freqs_hz) {
-    const double w = 2.0 * std::numbers::pi * fhz;
+    const double w = RadPerS(fhz);
     Eigen::MatrixXcd z = (ks - w * w * ms).cast<std::complex<double>>();
     z += std::complex<double>(0.0, w) * cs.cast<std::complex<double>>();
     const Eigen::VectorXcd q = z.partialPivLu().solve(f);

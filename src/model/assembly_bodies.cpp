@@ -10,6 +10,7 @@
 
 #include "assembly_parts.h"
 #include "fricrom/reduced_body.h"
+#include "fricrom/units.h"
 
 namespace fricrom::detail {
 
@@ -160,7 +161,7 @@ ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::strin
   spec.reduction.num_modes = static_cast<int>(modes);
   spec.reduction.cutoff_hz = rd.NonNegative(t, w, "cutoff_hz", 0.0);
   const double shift_hz = rd.NonNegative(t, w, "shift_hz", 0.0);
-  spec.reduction.shift = -std::pow(2 * std::numbers::pi * shift_hz, 2);
+  spec.reduction.shift = -EigenvalueFromHz(shift_hz);
   spec.modal_damping_ratio = rd.NonNegative(t, w, "modal_damping", 0.0);
   std::string error;
   if (!spec.IsValid(&error)) rd.Fail(w, error, &fn);

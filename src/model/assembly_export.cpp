@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/fe_model.h"
 
 namespace fricrom {

@@ -1,3 +1,5 @@
+#include "fricrom/case_file.h"
+
 #include <muParser.h>
 #include <toml++/toml.h>
 
@@ -9,7 +11,6 @@
 #include <sstream>
 
 #include "case_reader.h"
-#include "fricrom/case.h"
 
 namespace fricrom {
 namespace {

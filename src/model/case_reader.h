@@ -4,6 +4,7 @@
 #pragma once
 
 #include <muParser.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <map>
@@ -11,10 +12,9 @@
 #include <set>
 #include <sstream>
 #include <string>
-#include <toml++/toml.h>
 #include <vector>
 
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 
 namespace fricrom::detail {
 
@@ -81,8 +81,9 @@ class Reader {
         if (!std::isfinite(v)) Fail(key, "expression '" + expr + "' is not finite", &n);
         return v;
       } catch (const mu::Parser::exception_type& e) {
-        Fail(key, "cannot evaluate expression '" + expr + "': " + e.GetMsg() +
-                      " (numbers, + - * / ^ ( ), functions and the [parameters] names are allowed)",
+        Fail(key,
+             "cannot evaluate expression '" + expr + "': " + e.GetMsg() +
+                 " (numbers, + - * / ^ ( ), functions and the [parameters] names are allowed)",
              &n);
       }
     }
@@ -139,11 +140,10 @@ class Reader {
 };
 
 inline const toml::table& TableAt(const Reader& rd, const toml::array& arr, size_t i,
-                           const std::string& where) {
+                                  const std::string& where) {
   if (!arr[i].is_table()) rd.Fail(where, "expected a table ([[...]] entry)", &arr[i]);
   return *arr[i].as_table();
 }
-
 
 // [parameters] (plain numbers) with the --set overrides applied; rd then evaluates expressions
 // over them. Also writes the resolved section.

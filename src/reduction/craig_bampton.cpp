@@ -365,7 +365,7 @@ ReducedModel ReduceCraigBampton(const Eigen::SparseMatrix<double>& stiffness,
   s.modes = nq;
   out.modal_frequencies_hz.resize(nq);
   for (int j = 0; j < nq; ++j) {
-    out.modal_frequencies_hz(j) = std::sqrt(std::max(modes.lambda(j), 0.0)) / kTwoPi;
+    out.modal_frequencies_hz(j) = HzFromEigenvalue(modes.lambda(j));
     s.frequencies_hz.push_back(out.modal_frequencies_hz(j));
   }
   out.normal_modes = std::move(modes.phi);

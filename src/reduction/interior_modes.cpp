@@ -36,7 +36,7 @@ void Select(const CraigBamptonOptions& o, InteriorModes* out) {
   const int available = static_cast<int>(out->lambda.size());
   int keep = 0;
   if (o.cutoff_hz > 0.0) {
-    const double cut = std::pow(kTwoPi * o.cutoff_hz, 2);
+    const double cut = EigenvalueFromHz(o.cutoff_hz);
     while (keep < available && out->lambda(keep) <= cut) ++keep;
   } else {
     keep = std::min(o.num_modes, available);
@@ -82,7 +82,7 @@ InteriorModes ComputeInteriorModes(const Eigen::SparseMatrix<double>& kii,
   const int ni = static_cast<int>(kii.rows());
   if (ni == 0) return out;
   const bool by_cutoff = o.cutoff_hz > 0.0;
-  const double cut = std::pow(kTwoPi * o.cutoff_hz, 2);
+  const double cut = EigenvalueFromHz(o.cutoff_hz);
   const int first = std::min(o.num_modes, ni);
   // More than a quarter of the spectrum: Lanczos slows down (and stops with dsaupd info 3 when
   // massless DOFs leave fewer finite modes than asked for).

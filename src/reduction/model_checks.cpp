@@ -18,6 +18,7 @@
 #include "cholmod_factor.h"
 #include "dense_modes.h"
 #include "fricrom/reduction.h"
+#include "fricrom/units.h"
 #include "interior_modes.h"
 
 namespace fricrom {
@@ -100,7 +101,7 @@ ModalSolveResult SolveLowestModes(const Eigen::SparseMatrix<double>& stiffness,
   auto finish = [&](ModalSolveStatus st, const std::string& msg) {
     r.status = st;
     r.message = msg;
-    r.frequencies_hz = r.lambda.cwiseMax(0.0).cwiseSqrt() / (2 * std::numbers::pi);
+    r.frequencies_hz = r.lambda.unaryExpr(&HzFromEigenvalue);
     r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     return r;
   };

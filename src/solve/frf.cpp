@@ -20,8 +20,8 @@ ContinuationOptions MakeContinuationOptions(const HarmonicBalance& system,
                                             const FrfOptions& options, double f0, double f1,
                                             const Eigen::VectorXd& x0) {
   ContinuationOptions c;
-  c.lambda_start = kTwoPi * f0;
-  c.lambda_end = kTwoPi * f1;
+  c.lambda_start = RadPerS(f0);
+  c.lambda_end = RadPerS(f1);
   c.lambda_scale = std::abs(c.lambda_end - c.lambda_start);
   c.x_scale = std::max(x0.norm(), 1e-300);
   (void)system;
@@ -115,7 +115,7 @@ bool ContinueInFrequency(const HarmonicBalance& system, const Eigen::VectorXd& a
   if (cs.status != ContinuationStatus::kReachedEnd) return false;
   *x = x_end;
   const NewtonSummary ns =
-      SolveNewton(HbmAtFrequency(system, kTwoPi * f_to, alpha), options.newton, x);
+      SolveNewton(HbmAtFrequency(system, RadPerS(f_to), alpha), options.newton, x);
   *iterations += ns.iterations;
   return ns.IsSolutionUsable();
 }
@@ -171,7 +171,7 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
     throw std::invalid_argument("SolveAtFrequency: frequency must be positive, got " +
                                 std::to_string(freq_hz));
   }
-  const double omega = kTwoPi * freq_hz;
+  const double omega = RadPerS(freq_hz);
   FrfPoint p;
   p.freq_hz = freq_hz;
   std::vector<Eigen::VectorXd> starts;
@@ -207,7 +207,7 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
     const double f0 = freq_hz * ratio;
     Eigen::VectorXd x0;
     NewtonSummary s0;
-    if (!NewtonFromStarts(system, alpha, kTwoPi * f0, {system.StickLinearSolution(kTwoPi * f0)},
+    if (!NewtonFromStarts(system, alpha, RadPerS(f0), {system.StickLinearSolution(RadPerS(f0))},
                           options, &x0, &p.iterations, &s0)) {
       continue;
     }
@@ -275,13 +275,13 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   FrfTrace trace;
-  const Eigen::VectorXd x0 = system.StickLinearSolution(kTwoPi * f_start_hz);
+  const Eigen::VectorXd x0 = system.StickLinearSolution(RadPerS(f_start_hz));
   HbmFrequencyFamily family(system, alpha);
   const ContinuationOptions copt =
       MakeContinuationOptions(system, options, f_start_hz, f_end_hz, x0);
   trace.summary = Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
     FrfPoint p;
-    p.freq_hz = cp.lambda / kTwoPi;
+    p.freq_hz = Hz(cp.lambda);
     p.x = cp.x;
     p.status = SolverStatus::kConverged;
     p.iterations = cp.corrector_iterations;

@@ -25,12 +25,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "fricrom/contact_law.h"
 #include "fricrom/linear.h"
 #include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
-
 
 // One contact's geometry (ground entries dropped) and its incremental law state.
 struct ContactTerm {
@@ -64,30 +64,14 @@ struct ContactTerm {
       (*fc)[dof_b[i]] -= normal * n_b[i] + tangential * t_b[i];
     }
   }
-  // The contact law of contact_law.cpp, advanced by one sample (same tolerance on the limit).
+  // The contact law advanced by one sample: the same step as the AFT's (AdvanceContact).
   ContactState Advance(double u, double v, double* normal, double* tangential) {
-    const double nk = std::max(n0 + kn * v, 0.0);
-    ContactState state;
-    double tk;
-    if (nk <= 0.0) {
-      tk = 0.0;
-      state = ContactState::kLiftOff;
-    } else {
-      const double predictor = t_prev + kt * (u - u_prev);
-      const double limit = mu * nk;
-      if (std::abs(predictor) <= limit * (1.0 + 1e-12)) {
-        tk = predictor;
-        state = ContactState::kStick;
-      } else {
-        tk = predictor > 0.0 ? limit : -limit;
-        state = predictor > 0.0 ? ContactState::kSlipPositive : ContactState::kSlipNegative;
-      }
-    }
-    t_prev = tk;
+    const ContactStep at = AdvanceContact(ContactLawParams{kn, kt, mu, n0}, t_prev, u - u_prev, v);
+    t_prev = at.tangential;
     u_prev = u;
-    *normal = nk;
-    *tangential = tk;
-    return state;
+    *normal = at.normal;
+    *tangential = at.tangential;
+    return at.state;
   }
 };
 
@@ -231,8 +215,7 @@ std::string ToString(TimeIntegrationResult::Status status) {
   return "unknown";
 }
 
-TimeIntegrationResult IntegrateToSteadyState(const Model& model,
-                                             const Eigen::VectorXd& alpha,
+TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& alpha,
                                              const TimeIntegrationOptions& options) {
   using Status = TimeIntegrationResult::Status;
   std::string error;
@@ -262,12 +245,12 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model,
 
   // Stability: the full-stick system is the stiffest state (throws if M is not positive definite).
   const ModalResult stick = StickSystemModes(model);
-  const double omega_max = kTwoPi * stick.frequencies_hz.maxCoeff();
+  const double omega_max = RadPerS(stick.frequencies_hz.maxCoeff());
   result.stability_ratio = omega_max * dt / 2.0;
   if (result.stability_ratio > options.stability_fraction) {
     std::ostringstream s;
     s << "time step too large for central differences: omega_max*dt/2 = " << result.stability_ratio
-      << " > " << options.stability_fraction << " (full-stick omega_max = " << omega_max / kTwoPi
+      << " > " << options.stability_fraction << " (full-stick omega_max = " << Hz(omega_max)
       << " Hz); use at least "
       << static_cast<int>(std::ceil(omega_max * period / (2.0 * options.stability_fraction)))
       << " steps per period";

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "test_models.h"
 
 namespace fricrom {

@@ -1,10 +1,10 @@
+#include "fricrom/contact_law.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include "fricrom/contact.h"
 
 namespace fricrom {
 namespace {
@@ -64,6 +64,28 @@ TEST(ContactLaw, LiftOffGivesZeroForces) {
       EXPECT_EQ(r.normal[k], 0.0);
     }
   }
+}
+
+// The one-sample step both the AFT and the time integrator use, by hand: N = 50 + 1000·0.01 =
+// 60 N, limit μN = 30 N.
+TEST(ContactLaw, OneStepSticksSlipsAndLiftsOff) {
+  const ContactLawParams p{1000.0, 2000.0, 0.5, 50.0};
+  ContactStep s = AdvanceContact(p, 10.0, 0.005, 0.01);  // 10 + 2000·0.005 = 20 N ≤ 30 N
+  EXPECT_EQ(s.state, ContactState::kStick);
+  EXPECT_DOUBLE_EQ(s.normal, 60.0);
+  EXPECT_DOUBLE_EQ(s.tangential, 20.0);
+  s = AdvanceContact(p, 10.0, 0.02, 0.01);  // predictor 50 N > 30 N
+  EXPECT_EQ(s.state, ContactState::kSlipPositive);
+  EXPECT_DOUBLE_EQ(s.tangential, 30.0);
+  s = AdvanceContact(p, -10.0, -0.02, 0.01);
+  EXPECT_EQ(s.state, ContactState::kSlipNegative);
+  EXPECT_DOUBLE_EQ(s.tangential, -30.0);
+  s = AdvanceContact(p, 10.0, 0.01, -0.06);  // 50 − 60 < 0: separated, no force at all
+  EXPECT_EQ(s.state, ContactState::kLiftOff);
+  EXPECT_EQ(s.normal, 0.0);
+  EXPECT_EQ(s.tangential, 0.0);
+  s = AdvanceContact(p, 30.0 * (1.0 + 1e-13), 0.0, 0.01);  // touching the limit sticks
+  EXPECT_EQ(s.state, ContactState::kStick);
 }
 
 TEST(ContactLaw, RejectsBadInput) {

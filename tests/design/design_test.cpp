@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "fricrom/balance.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "test_models.h"
 
 namespace fricrom {

@@ -42,6 +42,8 @@ TEST(AlphaGroups, ResidualEqualsTheUngroupedBalanceAtExpandedAlpha) {
     EXPECT_LT(
         (eg.alpha_jacobian.col(0) - ep.alpha_jacobian.col(0) - ep.alpha_jacobian.col(1)).norm(),
         1e-12 * (1.0 + ep.alpha_jacobian.norm()));
+    EXPECT_EQ(testing::EntriesOutsidePattern(g->StructuralPattern(), eg), 0) << ToString(kind);
+    EXPECT_EQ(testing::EntriesOutsidePattern(p->StructuralPattern(), ep), 0) << ToString(kind);
     EXPECT_THROW(g->Evaluate(x, w, Eigen::Vector4d::Zero(), HbmRequest{}, &eg),
                  std::invalid_argument);
   }

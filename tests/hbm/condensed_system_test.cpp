@@ -1,5 +1,7 @@
 // The condensed harmonic balance against the full one (issue 10): same solutions, exact
 // derivatives (central differences), energy balance, and bounds through the same code path.
+#include "fricrom/condensed_system.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,9 +10,8 @@
 #include <set>
 
 #include "fricrom/bounds.h"
-#include "fricrom/condensed.h"
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "test_models.h"
 
 namespace fricrom {

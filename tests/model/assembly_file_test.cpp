@@ -12,7 +12,7 @@
 
 #include "fricrom/balance.h"
 #include "fricrom/bounds.h"
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/frf.h"
 #include "test_models.h"
 

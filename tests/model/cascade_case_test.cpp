@@ -12,7 +12,7 @@
 #include <string>
 
 #include "fricrom/balance.h"
-#include "fricrom/case.h"
+#include "fricrom/case_file.h"
 #include "fricrom/frf.h"
 
 namespace fricrom {

@@ -1,6 +1,8 @@
 // Tests of the TOML case parser (src/model/case_file.cpp): the reference case, parameter
 // overrides and the error messages for bad input. Cases under test are built from the text of
 // meshes/lumped3/baseline.toml by string replacement.
+#include "fricrom/case_file.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,8 +11,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include "fricrom/case.h"
 
 namespace fricrom {
 namespace {
@@ -82,8 +82,8 @@ TEST(CaseFile, BaselineLoads) {
   EXPECT_EQ(c.name, "lumped3-baseline");
   EXPECT_EQ(c.source, kBaselinePath);
   ASSERT_EQ(m.num_dofs(), 10);
-  const std::vector<std::string> names = {"blade1.x",  "blade1.y",  "blade2.x",  "blade2.y",
-                                          "blade3.x",  "blade3.y",  "damper1.x", "damper1.y",
+  const std::vector<std::string> names = {"blade1.x",  "blade1.y", "blade2.x",  "blade2.y",
+                                          "blade3.x",  "blade3.y", "damper1.x", "damper1.y",
                                           "damper2.x", "damper2.y"};
   EXPECT_EQ(m.dof_names, names);
 
@@ -237,16 +237,19 @@ void ExpectContains(const std::string& msg, const std::vector<std::string>& frag
 }
 
 TEST(CaseFileErrors, UnknownTopLevelKey) {
-  const std::string text = Replace(BaselineText(), "units = \"SI\"\n", "units = \"SI\"\nfrobnicate = 1\n");
+  const std::string text =
+      Replace(BaselineText(), "units = \"SI\"\n", "units = \"SI\"\nfrobnicate = 1\n");
   const std::string line = ":" + std::to_string(LineOf(text, "frobnicate = 1")) + ":";
   ExpectContains(ErrorOf(text), {"test.toml" + line, "frobnicate", "unknown key", "schema"});
 }
 
 TEST(CaseFileErrors, UnknownKeyInAContact) {
-  const std::string text = Replace(BaselineText(), "damper = \"damper1\"\ncounterpart = \"blade1\"",
-                                   "frobnicate = 1\ndamper = \"damper1\"\ncounterpart = \"blade1\"");
+  const std::string text =
+      Replace(BaselineText(), "damper = \"damper1\"\ncounterpart = \"blade1\"",
+              "frobnicate = 1\ndamper = \"damper1\"\ncounterpart = \"blade1\"");
   const std::string line = ":" + std::to_string(LineOf(text, "frobnicate = 1")) + ":";
-  ExpectContains(ErrorOf(text), {"test.toml" + line, "contacts[0].frobnicate", "unknown key", "theta"});
+  ExpectContains(ErrorOf(text),
+                 {"test.toml" + line, "contacts[0].frobnicate", "unknown key", "theta"});
 }
 
 TEST(CaseFileErrors, MissingRequiredKey) {
@@ -279,8 +282,8 @@ TEST(CaseFileErrors, ThetaOutOfRange) {
 }
 
 TEST(CaseFileErrors, UnknownBodyInASpring) {
-  const std::string text =
-      Replace(BaselineText(), "between = [\"blade1\", \"blade2\"]", "between = [\"blade1\", \"bladeX\"]");
+  const std::string text = Replace(BaselineText(), "between = [\"blade1\", \"blade2\"]",
+                                   "between = [\"blade1\", \"bladeX\"]");
   const std::string line = ":" + std::to_string(LineOf(text, "bladeX")) + ":";
   ExpectContains(ErrorOf(text), {"test.toml" + line, "springs[0].between", "bladeX"});
 }
@@ -295,7 +298,8 @@ TEST(CaseFileErrors, AlphaWithThreeValues) {
   const std::string text =
       Replace(BaselineText(), "alpha = [0.0, 0.0, 0.0, 0.0]", "alpha = [0.0, 0.0, 0.0]");
   const std::string line = ":" + std::to_string(LineOf(text, "alpha = [")) + ":";
-  ExpectContains(ErrorOf(text), {"test.toml" + line, "analysis.alpha", "one value per contact", "4"});
+  ExpectContains(ErrorOf(text),
+                 {"test.toml" + line, "analysis.alpha", "one value per contact", "4"});
 }
 
 TEST(CaseFileErrors, AlphaOutOfRange) {
@@ -347,8 +351,8 @@ TEST(CaseFileErrors, NonexistentFile) {
 // ------------------------------------------------------------------------- resolved case
 
 TEST(CaseFile, ResolvedCaseParsesAgainToTheSameModel) {
-  const Case a = ParseCase(BaselineText(), "test.toml", {ParameterOverride{"beta", 0.1},
-                                                          ParameterOverride{"gamma", 0.2}});
+  const Case a = ParseCase(BaselineText(), "test.toml",
+                           {ParameterOverride{"beta", 0.1}, ParameterOverride{"gamma", 0.2}});
   ASSERT_FALSE(a.resolved.empty());
   Case b;
   try {

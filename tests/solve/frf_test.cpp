@@ -1,3 +1,5 @@
+#include "fricrom/frf.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,8 +9,7 @@
 #include <tuple>
 #include <vector>
 
-#include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "test_models.h"
 
 namespace fricrom {
@@ -100,8 +101,9 @@ TEST(Frf, AlphaChangesTheBaselineResponseNearResonance) {
   const Case cs = testing::LoadBaseline();
   HbmSystem sys(cs.model, HbmOptions{1, 128});
   double lo = 1e9, hi = 0;
-  for (const Eigen::Vector4d& alpha : {Eigen::Vector4d(1, -1, 1, -1), Eigen::Vector4d(-1, 1, -1, 1),
-                                       Eigen::Vector4d(0, 0, 0, 0), Eigen::Vector4d(1, 1, -1, -1)}) {
+  for (const Eigen::Vector4d& alpha :
+       {Eigen::Vector4d(1, -1, 1, -1), Eigen::Vector4d(-1, 1, -1, 1), Eigen::Vector4d(0, 0, 0, 0),
+        Eigen::Vector4d(1, 1, -1, -1)}) {
     const auto pts = SolveAtFrequencies(sys, alpha, {262.0, 266.0}, FrfOptions{});
     ASSERT_EQ(pts[1].status, SolverStatus::kConverged);
     lo = std::min(lo, pts[1].amplitude);
@@ -140,8 +142,8 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
       for (int k = 0; k < 4; ++k) a[k] = ((i >> k) & 1) ? 1.0 : -1.0;  // the corners
     }
     Eigen::VectorXd x = sys.StickLinearSolution(kTwoPi * f);
-    plain_failed += !SolveNewton(HbmAtFrequency(sys, kTwoPi * f, a), NewtonOptions{}, &x)
-                         .IsSolutionUsable();
+    plain_failed +=
+        !SolveNewton(HbmAtFrequency(sys, kTwoPi * f, a), NewtonOptions{}, &x).IsSolutionUsable();
     const FrfPoint p = SolveAtFrequency(sys, a, f, Eigen::VectorXd(), FrfOptions{});
     if (p.status != SolverStatus::kConverged) {
       ++failed;
@@ -178,10 +180,11 @@ TEST(Frf, SingleFrequencySolvesConvergeOnAnAlphaGrid) {
   }
   const Case cs = testing::LoadBaseline({{"mu", 0.0}});
   HbmSystem sys(cs.model, HbmOptions{1, 128});
-  const FrfPoint one = SolveAtFrequency(sys, Eigen::Vector4d::Zero(), 266.0, Eigen::VectorXd(), FrfOptions{});
+  const FrfPoint one =
+      SolveAtFrequency(sys, Eigen::Vector4d::Zero(), 266.0, Eigen::VectorXd(), FrfOptions{});
   ASSERT_EQ(one.status, SolverStatus::kConverged) << one.message;
-  const std::vector<FrfPoint> ramp = SolveAtFrequencies(sys, Eigen::Vector4d::Zero(),
-                                                        {250.0, 258.0, 262.0, 264.0, 266.0}, FrfOptions{});
+  const std::vector<FrfPoint> ramp = SolveAtFrequencies(
+      sys, Eigen::Vector4d::Zero(), {250.0, 258.0, 262.0, 264.0, 266.0}, FrfOptions{});
   ASSERT_EQ(ramp.back().status, SolverStatus::kConverged);
   EXPECT_NEAR(one.amplitude, ramp.back().amplitude, 1e-9 * ramp.back().amplitude);
 }
@@ -192,7 +195,8 @@ TEST(Frf, FailedPointHasNoAmplitude) {
   HbmSystem sys(cs.model, HbmOptions{1, 128});
   FrfOptions o;
   o.newton.residual_tolerance = 1e-30;  // below round-off: no route can converge
-  const FrfPoint p = SolveAtFrequency(sys, Eigen::Vector4d(0.7, -0.3, 1.0, -1.0), 266.5, Eigen::VectorXd(), o);
+  const FrfPoint p =
+      SolveAtFrequency(sys, Eigen::Vector4d(0.7, -0.3, 1.0, -1.0), 266.5, Eigen::VectorXd(), o);
   ASSERT_NE(p.status, SolverStatus::kConverged);
   EXPECT_TRUE(std::isnan(p.amplitude));
   EXPECT_TRUE(p.regimes.empty());

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "fricrom/frf.h"
-#include "fricrom/hbm.h"
+#include "fricrom/hbm_system.h"
 #include "fricrom/linear.h"
 #include "test_models.h"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/contact.h"
+#include "fricrom/contact_law.h"
 #include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
@@ -44,6 +44,7 @@ class HbmSystem : public HarmonicBalance {
   void Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                 const HbmRequest& request, HbmEvaluation* out) const override;
   double ResidualScale() const override;
+  JacobianPattern StructuralPattern() const override;
   Eigen::VectorXd StickLinearSolution(double omega) const override;
   double Amplitude(const Eigen::VectorXd& x) const override { return DofAmplitude(x, -1); }
   Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const override;

@@ -28,6 +28,18 @@ struct ContactLawParams {
   double normal_preload = 0.0;  // N0: N = max(N0 + kn v, 0)
 };
 
+// One sample of the law: N = max(N0 + kn v, 0); in contact the elastic predictor
+// T_prev + kt Δu sticks while |T| ≤ μN (a relative 1e-12 keeps round-off from deciding when the
+// force just touches the limit) and slips at ±μN otherwise. The AFT (EvaluateContactLaw) and the
+// time integrator both advance contacts through this one function, so they cannot drift apart.
+struct ContactStep {
+  double normal = 0.0;      // N [N]
+  double tangential = 0.0;  // T [N]
+  ContactState state = ContactState::kStick;
+};
+ContactStep AdvanceContact(const ContactLawParams& params, double tangential_prev,
+                           double tangential_increment, double normal_gap);
+
 // Sparse exact derivatives of one sample of T: T_k depends on u at two samples (k and its stick
 // anchor), on v at one sample (the anchor's or k's own) and on α.
 struct TangentialDerivative {
