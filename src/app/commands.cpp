@@ -24,6 +24,7 @@
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
 #include "fricrom/linear.h"
+#include "fricrom/lumped_calibration.h"
 #include "io/atomic_file.h"
 #include "io/hdf5_file.h"
 
@@ -302,6 +303,68 @@ int RunCase(const CaseArgs& args) {
 
 }  // namespace
 
+// `fricrom lump`: the lumped case calibrated from an FE cascade, written atomically.
+int RunLump(const CaseArgs& args, const std::string& to, bool as_json) {
+  const Case fe = args.Load();
+  const LumpedCalibration l = CalibrateLumped(fe);
+  WriteTextAtomically(to, l.toml);
+  if (as_json) {
+    json j = {{"case", fe.source},
+              {"lumped_case", to},
+              {"response_blade", l.response_blade},
+              {"response_scale", l.response_scale},
+              {"units", "SI"}};
+    for (const LumpedBlade& b : l.blades) {
+      j["blades"].push_back({{"name", b.name},
+                             {"mode", b.mode + 1},
+                             {"mode_hz", b.mode_hz},
+                             {"modal_mass_kg", b.modal_mass},
+                             {"k_circumferential_n_per_m", b.k_circumferential},
+                             {"k_radial_n_per_m", b.k_radial},
+                             {"damping_ratio", b.damping_ratio},
+                             {"force_cos_n", b.force_cos},
+                             {"force_sin_n", b.force_sin}});
+    }
+    for (const LumpedDamper& d : l.dampers) {
+      j["dampers"].push_back({{"name", d.name},
+                              {"mass_kg", d.mass},
+                              {"preload_n", d.preload},
+                              {"ground_stiffness_n_per_m", d.ground_stiffness}});
+    }
+    for (const LumpedContact& c : l.contacts) {
+      j["contacts"].push_back({{"name", c.name},
+                               {"damper", c.damper},
+                               {"blade", c.counterpart},
+                               {"face", c.left_face ? "left" : "right"},
+                               {"theta_rad", c.theta},
+                               {"kn_n_per_m", c.kn},
+                               {"kt_n_per_m", c.kt},
+                               {"mu", c.mu},
+                               {"pairs", c.pairs}});
+    }
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << "Lumped model of " << fe.source << " -> " << to << " (SI units)\n";
+  for (const LumpedBlade& b : l.blades) {
+    std::cout << "  " << b.name << ": mode " << b.mode + 1 << " at " << b.mode_hz
+              << " Hz, platform mass " << b.modal_mass << " kg, k_circ " << b.k_circumferential
+              << " N/m, k_rad " << b.k_radial << " N/m, zeta " << b.damping_ratio << ", force "
+              << b.force_cos << " N\n";
+  }
+  for (const LumpedDamper& d : l.dampers) {
+    std::cout << "  " << d.name << ": mass " << d.mass << " kg, preload " << d.preload << " N\n";
+  }
+  for (const LumpedContact& c : l.contacts) {
+    std::cout << "  " << c.name << " (" << c.damper << " " << (c.left_face ? "left" : "right")
+              << " face on " << c.counterpart << ", " << c.pairs << " pairs): theta " << c.theta
+              << " rad, kn " << c.kn << " N/m, kt " << c.kt << " N/m, mu " << c.mu << "\n";
+  }
+  std::cout << "  response: " << l.response_blade << ".x x " << l.response_scale
+            << " (the FE response point per unit platform motion; DOFs scaled by it)\n";
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app{"fricrom " + Version() +
                ": forced-response bounds of bladed assemblies with friction contacts"};
@@ -340,6 +403,15 @@ int Run(int argc, char** argv) {
   export_args.Register(exportcmd);
   exportcmd->add_option("--to", export_dir, "Output directory")->required();
 
+  CaseArgs lump_args;
+  std::string lump_to;
+  bool lump_json = false;
+  CLI::App* lumpcmd = app.add_subcommand(
+      "lump", "Write a lumped 3-blade/2-damper case calibrated from an FE cascade assembly");
+  lump_args.Register(lumpcmd);
+  lumpcmd->add_option("--to", lump_to, "Lumped case file to write (TOML)")->required();
+  lumpcmd->add_flag("--json", lump_json, "Print the calibration as JSON");
+
   DesignCommands design;
   design.Register(app);
   FeCommands fe;
@@ -367,6 +439,7 @@ int Run(int argc, char** argv) {
       std::cout << "wrote " << ExportAssembly(export_args.Load(), export_dir) << "\n";
       return 0;
     }
+    if (*lumpcmd) return RunLump(lump_args, lump_to, lump_json);
     const int rc = design.Run();
     if (rc >= 0) return rc;
     const int fe_rc = fe.Run();

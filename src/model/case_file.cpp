@@ -121,7 +121,9 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     const std::string where = "bodies[" + std::to_string(i) + "]";
     const toml::table& t = TableAt(rd, body_arr, i, where);
     rd.CheckKeys(t, where,
-                 {"name", "kind", "mass", "ground_stiffness", "ground_damping", "directions"});
+                 {"name", "kind", "mass", "ground_stiffness", "ground_damping", "directions",
+                  "mass_x", "mass_y", "ground_stiffness_x", "ground_stiffness_y",
+                  "ground_damping_x", "ground_damping_y"});
     Body b;
     b.name = rd.String(t, where, "name");
     for (const Body& o : bodies) {
@@ -153,9 +155,10 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
     for (const std::string& d : b.directions) {
       b.dofs.push_back(static_cast<int>(m.dof_names.size()));
       m.dof_names.push_back(b.name + "." + d);
-      masses.push_back(mass);
-      kground.push_back(kg);
-      cground.push_back(cg);
+      masses.push_back(t.get("mass_" + d) ? rd.Positive(t, where, "mass_" + d) : mass);
+      // Per-direction values (a lumped blade is far stiffer radially than circumferentially).
+      kground.push_back(rd.NonNegative(t, where, "ground_stiffness_" + d, kg));
+      cground.push_back(rd.NonNegative(t, where, "ground_damping_" + d, cg));
       if (!b.damper) m.free_dofs.push_back(b.dofs.back());
     }
     toml::table rb{{"name", b.name},
@@ -163,6 +166,12 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
                    {"mass", mass},
                    {"ground_stiffness", kg},
                    {"ground_damping", cg}};
+    for (size_t k = 0; k < b.directions.size(); ++k) {
+      const size_t at = kground.size() - b.directions.size() + k;
+      if (masses[at] != mass) rb.insert("mass_" + b.directions[k], masses[at]);
+      if (kground[at] != kg) rb.insert("ground_stiffness_" + b.directions[k], kground[at]);
+      if (cground[at] != cg) rb.insert("ground_damping_" + b.directions[k], cground[at]);
+    }
     rbodies.push_back(std::move(rb));
     bodies.push_back(std::move(b));
   }
