@@ -7,7 +7,8 @@
 #   coarse (default)  meshes/blade_sector/coarse/, meshes/damper/coarse/  (committed)
 #                     with --out DIR: DIR/blade_sector/, DIR/damper/
 #   fine              build/meshes/blade_sector_fine/, build/meshes/damper_fine/  (not committed)
-#                     with --out DIR: DIR/blade_sector_fine/, DIR/damper_fine/
+#                     and the fine FE cascade case build/meshes/cascade3_fine.toml (51 node pairs
+#                     per face); with --out DIR: DIR/blade_sector_fine/, DIR/damper_fine/, ...
 #   all               both
 #   --modes N         also run a CalculiX eigenvalue analysis (in a temporary folder, nothing kept)
 #                     and print the lowest N natural frequencies of each model
@@ -172,6 +173,26 @@ make_variant() {
   "$PY" "$FIX" pairs "$blade_out/blade_sector_mesh.inp" CONTACT_LEFT "$damper_out/damper_mesh.inp" CONTACT_RIGHT \
       --shift "0,-$PITCH,0" \
     || die "blade CONTACT_LEFT (next sector) and damper CONTACT_RIGHT nodes do not coincide"
+  [ "$label" = fine ] && write_fine_cascade "$blade_out" "$damper_out"
+  return 0
+}
+
+# The fine FE cascade (51 node pairs per face, 204 in all): meshes/cascade3/coarse.toml with the
+# fine models, written next to them (cascade3_fine.toml; the models are too large to commit).
+write_fine_cascade() {
+  local blade_out="$1" damper_out="$2" dir case_file
+  dir="$(dirname "$blade_out")"
+  case_file="$dir/cascade3_fine.toml"
+  sed -e "s|\.\./blade_sector/coarse/|$(basename "$blade_out")/|g" \
+      -e "s|\.\./damper/coarse/|$(basename "$damper_out")/|g" \
+      -e 's|^name = "cascade3-coarse"|name = "cascade3-fine"|' \
+      -e 's|^description = "3 coarse blade sectors|description = "3 fine blade sectors|' \
+      -e 's|4 x 27 node pairs|4 x 51 node pairs|' -e 's|^# Three coarse FE|# Three fine FE|' \
+      "$ROOT_DIR/meshes/cascade3/coarse.toml" > "$case_file.tmp"
+  grep -q "$(basename "$blade_out")/blade_sector.sti" "$case_file.tmp" \
+    || die "could not point $case_file at the fine models"
+  mv "$case_file.tmp" "$case_file"
+  echo "== fine cascade case: $case_file"
 }
 
 t_start="$(now)"
