@@ -134,6 +134,7 @@ struct BoundsResult {
   int samples_checked = 0;
   int samples_failed = 0;
   int improved_by_samples = 0;
+  double wall_s = 0.0;  // wall time of ComputeBounds [s]
   // Paper Eq. 10: 1 − (y_max − y_min) / y_max; NaN unless both bounds converged.
   double robustness() const;
   bool IsUsable() const { return min.IsUsable() && max.IsUsable(); }

@@ -63,6 +63,7 @@ int ContactPairs(const Model& model) {
 json BoundsJson(const Model& model, const BoundsResult& b) {
   json j;
   j["freq_hz"] = b.freq_hz;
+  j["point_wall_s"] = b.wall_s;
   j["contact_pairs"] = ContactPairs(model);
   j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
   j["y_min"] = Num(b.min.amplitude);
@@ -107,7 +108,7 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
     Hdf5Writer h5(files.hdf5);
     CommonAttributes(h5, c, "bounds");
     const int nc = system.num_alpha();
-    std::vector<double> f, ymin, ymax, emin, emax, rr;
+    std::vector<double> f, ymin, ymax, emin, emax, rr, wall;
     std::vector<std::string> smin, smax, rmin, rmax;
     Eigen::MatrixXd amin(curve.points.size(), nc), amax(curve.points.size(), nc);
     for (size_t i = 0; i < curve.points.size(); ++i) {
@@ -118,6 +119,7 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
       emin.push_back(b.max.loss_factor);
       emax.push_back(b.min.loss_factor);
       rr.push_back(b.robustness());
+      wall.push_back(b.wall_s);
       smin.push_back(Status(b.min));
       smax.push_back(Status(b.max));
       amin.row(i).setConstant(NAN);
@@ -137,6 +139,7 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
     h5.Vector("bounds/eta_min", emin);
     h5.Vector("bounds/eta_max", emax);
     h5.Vector("bounds/robustness", rr);
+    h5.Vector("bounds/wall_s", wall);  // per frequency: where a curve spends its time
     h5.Strings("bounds/status_min", smin);
     h5.Strings("bounds/status_max", smax);
     h5.Matrix("bounds/alpha_at_min", amin);

@@ -1,6 +1,7 @@
 // ComputeBounds: the optimisation from the seeds, then a check of the bounds against
 // fixed-α solves at random α. The response over α is nonsmooth and every optimiser run finds a
 // local optimum only; a sample beyond a bound shows it, and the optimiser restarts from it.
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -94,8 +95,10 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
 
 }  // namespace
 
-BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
-                           const BoundsOptions& options) {
+namespace {
+
+BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
+                                  const BoundsOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
@@ -139,6 +142,16 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
   };
   improve(false, c.have_low, c.low, c.alpha_low, again.min);
   improve(true, c.have_high, c.high, c.alpha_high, again.max);
+  return result;
+}
+
+}  // namespace
+
+BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
+                           const BoundsOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BoundsResult result = ComputeBoundsUntimed(system, freq_hz, options);
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
 

@@ -161,6 +161,8 @@ TEST(Design, BoundCurveIsItsPointsWithWarmSeedsAndItsPeak) {
     ASSERT_TRUE(curve.points[i].IsUsable());
     EXPECT_LE(curve.points[i].min.amplitude, cold.min.amplitude * (1 + 1e-9));
     EXPECT_GE(curve.points[i].max.amplitude, cold.max.amplitude * (1 - 1e-9));
+    EXPECT_GT(curve.points[i].wall_s, 0.0);  // every point carries its cost
+    EXPECT_LE(curve.points[i].wall_s, curve.wall_s);
   }
   ASSERT_TRUE(curve.HasPeak());
   for (const BoundsResult& b : curve.points) {
