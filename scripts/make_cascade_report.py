@@ -1,0 +1,78 @@
+#!/usr/bin/python3
+"""The FE cascade part of the main job's results: the reduced FE cascade beside its lumped
+calibration at one frequency (modes, bounds, R, wall time), as markdown.
+
+Usage:
+    /usr/bin/python3 scripts/make_cascade_report.py --dir results/cascade3 --out results/cascade3/report.md
+
+Reads from --dir: fe_modes.json, fe_bounds.json, lump.json, lumped_modes.json,
+lumped_bounds.json (outputs of `fricrom modes|bounds|lump --json`) and timings.json
+({step: seconds}). Exit status 0, or 2 on a missing or malformed file.
+"""
+
+import json
+import os
+import sys
+
+
+def load(d, name):
+    path = os.path.join(d, name)
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        raise SystemExit(f"make_cascade_report.py: error: {path}: {e}")
+
+
+def num(x, fmt="{:.4e}"):
+    return "n/a" if x is None else fmt.format(x)
+
+
+def main():
+    args = dict(zip(sys.argv[1::2], sys.argv[2::2]))
+    if "--dir" not in args or "--out" not in args:
+        print(__doc__, file=sys.stderr)
+        return 2
+    d = args["--dir"]
+    fm, fb, lp = load(d, "fe_modes.json"), load(d, "fe_bounds.json"), load(d, "lump.json")
+    lm, lb, t = load(d, "lumped_modes.json"), load(d, "lumped_bounds.json"), load(d, "timings.json")
+    rows = [
+        ("DOFs (stick system)", len(fm.get("stick_hz", [])), len(lm.get("stick_hz", []))),
+        ("contact pairs / alpha", f"{fb['contact_pairs']} / {fb['alpha_count']}",
+         f"{lb['contact_pairs']} / {lb['alpha_count']}"),
+        ("free modes, first family [Hz]", ", ".join(f"{f:.2f}" for f in fm["free_hz"][:3]),
+         ", ".join(f"{f:.2f}" for f in lm["free_hz"][:3])),
+        ("full-stick modes, first family [Hz]", ", ".join(f"{f:.2f}" for f in fm["stick_hz"][:3]),
+         ", ".join(f"{f:.2f}" for f in lm["stick_hz"][:3])),
+        (f"bounds at {fb['freq_hz']:g} Hz: y_min [m]", num(fb["y_min"]), num(lb["y_min"])),
+        ("y_max [m]", num(fb["y_max"]), num(lb["y_max"])),
+        ("R", num(fb["R"], "{:.4f}"), num(lb["R"], "{:.4f}")),
+        ("status", fb["status"], lb["status"]),
+        ("wall time of the bounds [s]", f"{t.get('fe_bounds', float('nan')):.1f}",
+         f"{t.get('lumped_bounds', float('nan')):.2f}"),
+    ]
+    out = ["# FE cascade: reduced FE model and its lumped calibration", "",
+           "Case `meshes/cascade3/coarse.toml` (3 coarse blade sectors, 2 wedge dampers, Craig-Bampton "
+           "bodies, node-to-node friction) and the lumped case `fricrom lump` writes from it "
+           "(route and the full comparison with bound curves: `docs/lumped-vs-fe.md`). "
+           "Units SI. The response is blade 2's response node (the lumped DOFs are scaled to it: "
+           f"s = {lp['response_scale']:.2f}).", "",
+           "| | reduced FE | lumped |", "|---|---|---|"]
+    out += [f"| {a} | {b} | {c} |" for a, b, c in rows]
+    out += ["", "Lumped calibration: " + "; ".join(
+        f"{b['name']} mode {b['mode']} at {b['mode_hz']:.2f} Hz, platform mass {b['modal_mass_kg']:.3g} kg"
+        for b in lp["blades"]) + "; " + "; ".join(
+        f"{c['name']} kn {c['kn_n_per_m']:.3g} N/m, mu {c['mu']:.2f}, theta {c['theta_rad']:.4f} rad"
+        for c in lp["contacts"]) + ".", "",
+        "![contact-state map at the bounds](figures/contact_map.png)", "",
+        "Step wall times [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in sorted(t.items())) + "."]
+    tmp = args["--out"] + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(out) + "\n")
+    os.replace(tmp, args["--out"])
+    print(f"make_cascade_report.py: wrote {args['--out']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
