@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iomanip>
 #include <map>
@@ -210,6 +211,9 @@ std::vector<LumpedContact> LumpContacts(const Case& c, const std::vector<BodyDof
   std::vector<std::set<std::pair<int, int>>> pairs(out.size());
   for (size_t ci = 0; ci < m.contacts.size(); ++ci) {
     const Contact& ct = m.contacts[ci];
+    if (ct.normal.size() != 3 || ct.dofs_a.size() != 3 || ct.dofs_b.size() != 3) {
+      Fail(c, "contact '" + ct.name + "' is not a 3D node pair");
+    }
     const int itf = c.contact_interface[ci];
     LumpedContact& lc = out[static_cast<size_t>(itf)];
     lc.name = c.interface_names[static_cast<size_t>(itf)];
@@ -251,19 +255,36 @@ std::string Identifier(const std::string& s) {
   return id;
 }
 
+// A TOML basic-string body: quotes and backslashes escaped, control characters as spaces.
+std::string Escaped(const std::string& s) {
+  std::string out;
+  for (const char ch : s) {
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (static_cast<unsigned char>(ch) < 0x20) {
+      out += ' ';
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
 std::string WriteToml(const Case& c, const LumpedCalibration& l, const LumpOptions& o) {
   std::ostringstream t;
   t << std::setprecision(10);
   t << "# fricrom case: lumped 3-blade / 2-damper model calibrated from the FE assembly\n"
-    << "# " << c.source << " by `fricrom lump` (route: docs/lumped-vs-fe.md).\n"
+    << "# " << Escaped(c.source) << " by `fricrom lump` (route: docs/lumped-vs-fe.md).\n"
     << "# Units: SI (m, kg, s, N, N/m, N s/m, rad); frequencies in Hz. Lumped x = FE "
     << kAxis[o.circumferential] << " (circumferential), lumped y = FE " << kAxis[o.radial]
     << " (radial).\n"
     << "# Every DOF is scaled by s (masses, stiffnesses, damping / s^2, forces / s), so "
     << l.response_blade << ".x\n# reads the amplitude of the FE response point; the "
     << "parameters hold the platform-referenced values.\n\n"
-    << "schema = \"fricrom-case-1\"\nunits = \"SI\"\nname = \"" << c.name << "-lumped\"\n"
-    << "description = \"lumped model of " << c.name << " (fricrom lump)\"\n\n[parameters]\n"
+    << "schema = \"fricrom-case-1\"\nunits = \"SI\"\nname = \"" << Escaped(c.name) << "-lumped\"\n"
+    << "description = \"lumped model of " << Escaped(c.name)
+    << " (fricrom lump)\"\n\n[parameters]\n"
     << "s = " << l.response_scale << "  # |response point / platform circumferential motion| of "
     << l.response_blade << " in its calibration mode\n";
   for (const LumpedBlade& b : l.blades) {
@@ -361,6 +382,20 @@ LumpedCalibration CalibrateLumped(const Case& fe, const LumpOptions& options) {
   if (out.response_blade.empty()) Fail(fe, "the response DOF must lie on a blade");
   if (!(out.response_scale > 0.0)) Fail(fe, "the response point does not move in its blade's mode");
   out.contacts = LumpContacts(fe, bodies, options);
+  // Body and interface names become lumped DOF, contact and parameter names.
+  auto plain = [](const std::string& n) {
+    return !n.empty() && std::all_of(n.begin(), n.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
+    });
+  };
+  for (const BodyDofs& b : bodies) {
+    if (!plain(b.name))
+      Fail(fe, "body name '" + b.name + "' is not a plain name (letters, digits, _ -)");
+  }
+  for (const LumpedContact& ct : out.contacts) {
+    if (!plain(ct.name))
+      Fail(fe, "interface name '" + ct.name + "' is not a plain name (letters, digits, _ -)");
+  }
   out.toml = WriteToml(fe, out, options);
   return out;
 }

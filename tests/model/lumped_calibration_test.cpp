@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <numbers>
 #include <string>
 
@@ -105,6 +107,26 @@ TEST(LumpedCalibration, RefusesWhatTheLumpedModelCannotRepresent) {
   EXPECT_FALSE(bad.IsValid(&error));
   EXPECT_THROW(CalibrateLumped(LoadCase((kSource / "meshes/cascade3/coarse.toml").string()), bad),
                std::invalid_argument);
+}
+
+// A case name with quotes and a backslash survives into the written TOML, which still loads.
+TEST(LumpedCalibration, WrittenCaseEscapesTheCaseName) {
+  const fs::path dir = kSource / "meshes/cascade3";
+  const fs::path variant = dir / (".lump_name_" + std::to_string(::getpid()) + ".toml");
+  {
+    std::ifstream in(dir / "coarse.toml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    const std::string from = "name = \"cascade3-coarse\"";
+    ASSERT_NE(s.find(from), std::string::npos);
+    s.replace(s.find(from), from.size(), "name = 'cas\"ca\\de'");
+    std::ofstream(variant) << s;
+  }
+  const LumpedCalibration l = CalibrateLumped(LoadCase(variant.string()));
+  fs::remove(variant);
+  const Case lumped = ParseCase(l.toml, "lumped.toml");
+  EXPECT_EQ(lumped.name, "cas\"ca\\de-lumped");
 }
 
 TEST(LumpedCalibration, CliWritesACaseEveryCommandReads) {
