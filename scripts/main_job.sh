@@ -27,6 +27,19 @@ step() {
   if [ "$rc" -eq 1 ]; then echo "main job: step '$name' reported non-converged points (see above)"; fi
   if [ "$rc" -gt 1 ]; then echo "main job: step '$name' failed (exit $rc)"; exit "$rc"; fi
 }
+# The step wall times recorded so far (T) as a JSON object.
+write_timings() {
+  local first=1
+  {
+    echo "{"
+    for k in "${!T[@]}"; do
+      [ $first -eq 1 ] || echo ","
+      first=0
+      printf '  "%s": %s' "$k" "${T[$k]}"
+    done
+    echo; echo "}"
+  } > "$1"
+}
 json() { local f=$1; shift; "$@" --json > "$f.tmp" || { local rc=$?; mv "$f.tmp" "$f"; return $rc; }; mv "$f.tmp" "$f"; }
 
 echo; echo "== Table 3: natural frequencies of the free and full-stick systems =="
@@ -69,16 +82,7 @@ done
 for pv in gamma_0.3 gamma_0.43 beta_0.1 beta_0.175; do
   cp "$OUT/states_$pv/contacts.png" "$OUT/figures/contacts_$pv.png" 2>/dev/null || true
 done
-{
-  echo "{"
-  first=1
-  for k in "${!T[@]}"; do
-    [ $first -eq 1 ] || echo ","
-    first=0
-    printf '  "%s": %s' "$k" "${T[$k]}"
-  done
-  echo; echo "}"
-} > "$OUT/timings.json"
+write_timings "$OUT/timings.json"
 $PY scripts/make_report.py --out "$OUT/report.md" --modes "$OUT/modes.json" --bounds "$OUT/bounds.json" \
   --sweep-gamma "$OUT/sweep_gamma.json" --sweep-beta "$OUT/sweep_beta.json" \
   --noa-gamma "$OUT/noa_gamma.json" --noa-beta "$OUT/noa_beta.json" \
@@ -98,16 +102,7 @@ step lump json "$FE_OUT/lump.json" $FR lump "$FE_CASE" --to "$FE_OUT/lumped.toml
 step lumped_modes json "$FE_OUT/lumped_modes.json" $FR modes "$FE_OUT/lumped.toml"
 step lumped_bounds json "$FE_OUT/lumped_bounds.json" $FR bounds "$FE_OUT/lumped.toml" --freq 1000 --out "$FE_OUT/lumped_bounds"
 cp "$FE_OUT/fe_bounds/contact_map.png" "$FE_OUT/figures/contact_map.png" 2>/dev/null || true
-{
-  echo "{"
-  first=1
-  for k in "${!T[@]}"; do
-    [ $first -eq 1 ] || echo ","
-    first=0
-    printf '  "%s": %s' "$k" "${T[$k]}"
-  done
-  echo; echo "}"
-} > "$FE_OUT/timings.json"
+write_timings "$FE_OUT/timings.json"
 $PY scripts/make_cascade_report.py --dir "$FE_OUT" --out "$FE_OUT/report.md"
 
 echo
