@@ -12,6 +12,9 @@
 #   all               both
 #   --modes N         also run a CalculiX eigenvalue analysis (in a temporary folder, nothing kept)
 #                     and print the lowest N natural frequencies of each model
+#   --set NAME=VALUE  a geometry parameter of both .geo files (gmsh -setnumber), e.g. cham_deg=40
+#                     for the wedge angle of the dampers and the platform chamfers (repeatable;
+#                     use with --out so the committed meshes stay as they are)
 #
 # Each output folder gets <job>_mesh.inp (nodes, C3D10 elements, node sets), <job>.inp (the deck
 # CalculiX ran; includes the mesh by relative path), <job>.sti, <job>.mas, <job>.dof. Jobs:
@@ -30,18 +33,24 @@ die() { echo "make_meshes.sh: error: $*" >&2; exit 1; }
 variant=coarse
 out_dir=""
 modes=0
+geo_set=()
 while [ $# -gt 0 ]; do
   case "$1" in
     coarse|fine|all) variant="$1" ;;
     --out) [ $# -ge 2 ] || die "--out needs a directory"; out_dir="$2"; shift ;;
     --out=*) out_dir="${1#--out=}" ;;
     --modes) [ $# -ge 2 ] || die "--modes needs a number"; modes="$2"; shift ;;
+    --set)
+      [ $# -ge 2 ] || die "--set needs NAME=VALUE"
+      [[ "$2" =~ ^([A-Za-z_][A-Za-z0-9_]*)=([-+0-9.eE]+)$ ]] || die "--set wants NAME=NUMBER, got '$2'"
+      geo_set+=(-setnumber "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}"); shift ;;
     -h|--help) usage; exit 0 ;;
     *) usage >&2; die "unknown argument '$1'" ;;
   esac
   shift
 done
 [[ "$modes" =~ ^[0-9]+$ ]] || die "--modes wants a non-negative integer, got '$modes'"
+[ ${#geo_set[@]} -eq 0 ] || [ -n "$out_dir" ] || die "--set changes the geometry: give --out DIR (the committed meshes are not overwritten)"
 
 GMSH="$(command -v gmsh || true)"
 CCX="$(command -v ccx || true)"
@@ -163,6 +172,8 @@ make_variant() {
       damper_out="${out_dir:-$ROOT_DIR/build/meshes}/damper_fine"
       ;;
   esac
+  blade_args+=("${geo_set[@]}")
+  damper_args+=("${geo_set[@]}")
   run_model blade_sector "$label" "$BLADE_GEO" "$BLADE_DECK" "$blade_out" BLADE \
       ROOT,CONTACT_LEFT,CONTACT_RIGHT EXCITATION,RESPONSE "${blade_args[@]}"
   run_model damper "$label" "$DAMPER_GEO" "$DAMPER_DECK" "$damper_out" DAMPER \

@@ -24,7 +24,7 @@ PACKAGES=(
   calculix-ccx             # regenerates the CalculiX fixtures and meshes/ (with gmsh)
   gmsh                     # blade-sector and damper geometry + meshing (scripts/make_meshes.sh)
   libopenblas0-pthread     # optimised BLAS/LAPACK for CHOLMOD (5x faster factor than reference BLAS)
-  python3-scipy            # benchmarks/reduce_vs_scipy.py (side-by-side reduction)
+  python3-scipy            # benchmarks/reduce_vs_scipy.py, scripts/geometry_noa.py (Brent search)
 )
 
 missing=()
