@@ -74,17 +74,28 @@ struct SweepOptions {
   double reference_freq_hz = 0.0;
   bool track_peak = false;
   ResonanceSearchOptions search;
-  bool warm_start = true;  // add the previous point's optimal α to the seeds
+  // Warm start: add the previous value's optimal α to the seeds. It makes a point depend on the
+  // order the values are run in, so it is off by default (every value is an independent unit of
+  // work, which threads, MPI ranks and resumed runs can take in any order with the same result)
+  // and needs threads = 1.
+  bool warm_start = false;
+  int threads = 1;  // worker threads over the values (0 = every core)
   bool IsValid(std::string* error) const;
 };
 
 // Progress: (done, total).
 using DesignProgress = std::function<void(int, int)>;
+// Called once per finished value (index into `values`), one call at a time, in completion order.
+using SweepPointDone = std::function<void(int, const RobustnessPoint&)>;
 
+// R at every value. Values whose `finished` entry is true (e.g. read back from a journal of an
+// interrupted run) are not computed; their entries of the result are default points.
 std::vector<RobustnessPoint> SweepRobustness(const BalanceFactory& factory,
                                              const std::vector<double>& values,
                                              const SweepOptions& options,
-                                             const DesignProgress& progress = {});
+                                             const DesignProgress& progress = {},
+                                             const SweepPointDone& point_done = {},
+                                             const std::vector<bool>& finished = {});
 
 struct NoaOptions {
   enum Objective {

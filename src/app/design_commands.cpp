@@ -16,6 +16,7 @@
 
 #include "app/cli_common.h"
 #include "app/result_files.h"
+#include "app/run_journal.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
@@ -24,7 +25,9 @@
 #include "fricrom/linear.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"
+#include "fricrom/work_queue.h"
 #include "io/atomic_file.h"
+#include "io/content_hash.h"
 #include "io/hdf5_file.h"
 
 namespace fricrom::app {
@@ -101,7 +104,8 @@ struct DesignCommands::State {
   double freq = 0.0, from = 0.0, to = 0.0;
   int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
   std::string param, noa_objective = "eta-gap";
-  bool no_sweep = false;
+  bool no_sweep = false, resume = false;
+  int threads = 0;
 
   BoundsOptions MakeBoundsOptions(const Case& c) const {
     const int nc = c.model.num_alpha();
@@ -126,6 +130,24 @@ struct DesignCommands::State {
     fs::path d = out.empty() ? fs::path("results") / c.name / sub : fs::path(out);
     fs::create_directories(d);
     return d;
+  }
+  // What a sweep journal must match to be resumed: the case (its content), every option that
+  // changes a result, and the values. (Files the case names are not hashed here: an FE body's
+  // reduction is cached by their content, but a changed matrix file under an unchanged case
+  // needs a fresh --out.)
+  json SweepJournalHeader(const std::vector<double>& values, const SweepOptions& so) const {
+    Hasher h;
+    HashFile(sweep_case.path, &h);
+    return {{"journal", "fricrom-sweep-1"}, {"version", Version()},
+            {"case", sweep_case.path},      {"case_content", h.Hex()},
+            {"sets", sweep_case.sets},      {"harmonics", sweep_case.harmonics},
+            {"samples", sweep_case.samples}, {"balance", sweep_case.balance},
+            {"receptance", sweep_case.receptance}, {"param", param},
+            {"values", values},             {"reference_freq_hz", so.reference_freq_hz},
+            {"track_peak", track_peak},     {"seeds", seeds},
+            {"objective", objective},       {"method", method},
+            {"check_samples", check_samples}, {"random_seeds", random_seeds},
+            {"interface_seeds", interface_seeds}};
   }
   // On a terminal only (JSON goes to stdout, so --json does not silence it).
   bool ShowProgress() const { return !quiet && isatty(STDERR_FILENO); }
@@ -205,6 +227,13 @@ void DesignCommands::Register(CLI::App& app) {
       ->check(Positive());
   s.sweep->add_flag("--track-peak", s.track_peak, "Locate the resonance again at every value");
   s.sweep->add_flag("--plot", s.plot, "Draw R(p)");
+  s.sweep
+      ->add_option("--threads", s.threads,
+                   "Worker threads over the values (0: every core; results do not depend on it)")
+      ->check(CLI::Range(0, 4096));
+  s.sweep->add_flag("--resume", s.resume,
+                    "Complete an interrupted run in the same --out (an error if there is none; "
+                    "rerunning the same command resumes as well)");
 
   s.noa = app.add_subcommand("noa", "Nested optimisation: the most robust parameter value");
   s.noa_case.Register(s.noa);
@@ -324,25 +353,46 @@ int DesignCommands::State::RunSweep() {
   so.search.lo_hz = c0.analysis.freq_min_hz;
   so.search.hi_hz = c0.analysis.freq_max_hz;
   so.search.scan_points = 21;
+  // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
+  so.threads = bo.method == BoundsOptions::kReducedSpace ? threads : 1;
   if (!track_peak) so.reference_freq_hz = ReferenceFrequency(c0, bo, &solves);
   std::vector<double> values;
   for (int i = 0; i < steps; ++i) values.push_back(from + (to - from) * i / (steps - 1));
+
+  // Units of work are the values; each finished one goes to the journal at once, so a killed
+  // run resumes where it stopped. The header holds everything that changes a result.
+  const fs::path dir = OutDir(c0, "sweep_" + param);
+  RunJournal journal(dir, "sweep", SweepJournalHeader(values, so), resume);
+  std::vector<bool> finished(values.size(), false);
+  for (const auto& [unit, row] : journal.finished()) {
+    if (unit >= 0 && unit < steps) finished[unit] = true;
+  }
+  const int resumed = static_cast<int>(journal.finished().size());
   const BalanceFactory factory = [&](double p) {
     return MakeCaseBalance(sweep_case.Load({{param, p}}));
   };
   Progress progress{ShowProgress(), "sweep " + param};
-  const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, so, progress);
+  int computed = 0;
+  SweepRobustness(
+      factory, values, so, progress,
+      [&](int i, const RobustnessPoint& pt) {
+        journal.Record(i, SweepRowJson(c0.model, pt));
+        ++computed;
+      },
+      finished);
   progress.Done();
-  for (const RobustnessPoint& p : pts) solves += 2 * p.bound_solves;
+  SweepColumns cols;
+  for (int i = 0; i < steps; ++i) AppendSweepRow(journal.finished().at(i), &cols);
+  solves += 2 * cols.bound_solves;
   const double wall = Seconds(t0);
 
-  const fs::path dir = OutDir(c0, "sweep_" + param);
   const fs::path h5p = dir / "sweep.h5", csvp = dir / "sweep.csv";
-  const SweepColumns cols = MakeSweepColumns(c0.model, pts);
   WriteSweepFiles(c0, param, values, cols, track_peak ? NAN : so.reference_freq_hz, wall, solves,
                   {h5p, csvp});
-  const auto& [r, ymin, ymax, emin, emax, fr, st, states_min, states_max, mixed_min, mixed_max] =
-      cols;
+  WriteManifest(dir, "sweep", {h5p, csvp});
+  journal.Complete();
+  const auto& [r, ymin, ymax, emin, emax, fr, st, states_min, states_max, mixed_min, mixed_max,
+               unit_solves] = cols;
   if (plot) Plot("plot_sweep.py", {h5p.string(), (dir / "sweep.png").string()});
   bool ok = true;
   for (const std::string& x : st) ok = ok && x == "converged";
@@ -363,17 +413,20 @@ int DesignCommands::State::RunSweep() {
     j["mixed_configuration_at_max"] = mixed_max;
     j["reference_freq_hz"] = track_peak ? json(nullptr) : json(so.reference_freq_hz);
     j["inner_solves"] = solves;
+    j["units"] = {{"total", steps}, {"computed", computed}, {"resumed", resumed},
+                  {"threads", WorkerThreads(so.threads, steps - resumed)}};
     j["wall_s"] = wall;
     j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
+    if (resumed > 0) std::cout << "Resumed: " << resumed << " of " << steps << " values from the journal\n";
     std::cout << "Robustness over " << param << " in [" << from << ", " << to << "], " << steps
               << " values, "
               << (track_peak ? std::string("at the peak of y_max")
                              : "at " + std::to_string(so.reference_freq_hz) + " Hz")
               << ": " << std::setprecision(3) << wall << " s, " << solves
               << " inner bound solves\n";
-    for (size_t i = 0; i < pts.size(); ++i) {
+    for (size_t i = 0; i < values.size(); ++i) {
       std::cout << "  " << param << " = " << std::setw(8) << values[i] << "  R = " << r[i] << "\n";
     }
     std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <utility>
 
 #include "app/cli_common.h"
+#include "io/atomic_file.h"
+#include "io/content_hash.h"
 #include "fricrom/linear.h"
 #include "fricrom/units.h"
 #include "io/atomic_file.h"
@@ -189,21 +192,43 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
   }
 }
 
+nlohmann::json SweepRowJson(const Model& model, const RobustnessPoint& p) {
+  return {{"R", NumberOrNull(p.robustness)},
+          {"y_min", NumberOrNull(p.bounds.min.amplitude)},
+          {"y_max", NumberOrNull(p.bounds.max.amplitude)},
+          {"eta_min", NumberOrNull(p.bounds.max.loss_factor)},
+          {"eta_max", NumberOrNull(p.bounds.min.loss_factor)},
+          {"freq_hz", NumberOrNull(p.freq_hz)},
+          {"status", p.bounds.IsUsable() ? "converged" : "failed"},
+          {"states_min", RegimeNames(p.bounds.min.regimes)},
+          {"states_max", RegimeNames(p.bounds.max.regimes)},
+          {"mixed_min", MixedConfiguration(model, p.bounds.min.regimes)},
+          {"mixed_max", MixedConfiguration(model, p.bounds.max.regimes)},
+          {"bound_solves", p.bound_solves}};
+}
+
+void AppendSweepRow(const nlohmann::json& row, SweepColumns* s) {
+  auto num = [&](const char* key) {
+    const nlohmann::json& v = row.at(key);
+    return v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+  };
+  s->r.push_back(num("R"));
+  s->ymin.push_back(num("y_min"));
+  s->ymax.push_back(num("y_max"));
+  s->emin.push_back(num("eta_min"));
+  s->emax.push_back(num("eta_max"));
+  s->fr.push_back(num("freq_hz"));
+  s->st.push_back(row.at("status").get<std::string>());
+  s->states_min.push_back(row.at("states_min"));
+  s->states_max.push_back(row.at("states_max"));
+  s->mixed_min.push_back(row.at("mixed_min"));
+  s->mixed_max.push_back(row.at("mixed_max"));
+  s->bound_solves += row.at("bound_solves").get<int>();
+}
+
 SweepColumns MakeSweepColumns(const Model& model, const std::vector<RobustnessPoint>& pts) {
   SweepColumns s;
-  for (const RobustnessPoint& p : pts) {
-    s.r.push_back(p.robustness);
-    s.ymin.push_back(p.bounds.min.amplitude);
-    s.ymax.push_back(p.bounds.max.amplitude);
-    s.emin.push_back(p.bounds.max.loss_factor);
-    s.emax.push_back(p.bounds.min.loss_factor);
-    s.fr.push_back(p.freq_hz);
-    s.st.push_back(p.bounds.IsUsable() ? "converged" : "failed");
-    s.states_min.push_back(RegimeNames(p.bounds.min.regimes));
-    s.states_max.push_back(RegimeNames(p.bounds.max.regimes));
-    s.mixed_min.push_back(MixedConfiguration(model, p.bounds.min.regimes));
-    s.mixed_max.push_back(MixedConfiguration(model, p.bounds.max.regimes));
-  }
+  for (const RobustnessPoint& p : pts) AppendSweepRow(SweepRowJson(model, p), &s);
   return s;
 }
 
@@ -239,6 +264,21 @@ void WriteSweepFiles(const Case& c0, const std::string& param, const std::vector
     }
     WriteTextAtomically(files.csv, csv.str());
   }
+}
+
+void WriteManifest(const std::filesystem::path& dir, const std::string& name,
+                   const std::vector<std::filesystem::path>& files) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const std::filesystem::path& f : files) {
+    Hasher h;
+    HashFile(f.string(), &h);
+    list.push_back({{"file", f.filename().string()},
+                    {"bytes", std::filesystem::file_size(f)},
+                    {"content", h.Hex()}});
+  }
+  const nlohmann::json m = {{"manifest", "fricrom-manifest-1"}, {"command", name},
+                            {"fricrom", Version()}, {"files", list}};
+  WriteTextAtomically(dir / (name + ".manifest.json"), m.dump(1) + "\n");
 }
 
 }  // namespace fricrom::app

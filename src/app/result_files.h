@@ -45,11 +45,22 @@ struct SweepColumns {
   std::vector<std::string> st;
   nlohmann::json states_min = nlohmann::json::array(), states_max = nlohmann::json::array(),
                  mixed_min = nlohmann::json::array(), mixed_max = nlohmann::json::array();
+  int bound_solves = 0;
 };
 SweepColumns MakeSweepColumns(const Model& model, const std::vector<RobustnessPoint>& pts);
+// One value's columns as JSON (NaN as null): the unit result a sweep journal records, read back
+// by AppendSweepRow (null as NaN) so a resumed sweep writes the same files.
+nlohmann::json SweepRowJson(const Model& model, const RobustnessPoint& p);
+void AppendSweepRow(const nlohmann::json& row, SweepColumns* cols);
 // sweep.h5 and sweep.csv; reference_freq_hz NaN when the peak was tracked.
 void WriteSweepFiles(const Case& c0, const std::string& param, const std::vector<double>& values,
                      const SweepColumns& cols, double reference_freq_hz, double wall_s, int solves,
                      const ResultFiles& files);
+
+// The set of files one run wrote: dir/<name>.manifest.json (written last, atomically) lists each
+// file with its size and content hash, so a reader can tell a complete set from a mix of two runs
+// (each file is replaced atomically, but not all of them at once).
+void WriteManifest(const std::filesystem::path& dir, const std::string& name,
+                   const std::vector<std::filesystem::path>& files);
 
 }  // namespace fricrom::app

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "fricrom/design.h"
+#include "fricrom/work_queue.h"
 
 namespace fricrom {
 namespace {
@@ -40,6 +41,14 @@ bool ResonanceSearchOptions::IsValid(std::string* error) const {
 
 bool SweepOptions::IsValid(std::string* error) const {
   if (!bounds.IsValid(error)) return false;
+  if (threads < 0) {
+    *error = "SweepOptions.threads must be >= 0 (0: every core)";
+    return false;
+  }
+  if (warm_start && threads != 1) {
+    *error = "SweepOptions.warm_start chains the values in order: it needs threads = 1";
+    return false;
+  }
   if (track_peak) return search.IsValid(error);
   if (!(reference_freq_hz > 0.0)) {
     *error = "SweepOptions.reference_freq_hz must be > 0 (or set track_peak)";
@@ -115,36 +124,61 @@ ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSear
   return r;
 }
 
+namespace {
+
+RobustnessPoint ComputeRobustnessPoint(const HarmonicBalance& system, double p,
+                                       const SweepOptions& options, const BoundsOptions& bo) {
+  RobustnessPoint pt;
+  pt.parameter = p;
+  if (options.track_peak) {
+    const ResonanceResult rr = FindResonance(system, options.search, bo);
+    pt.freq_hz = rr.freq_hz;
+    pt.bounds = rr.bounds;
+    pt.bound_solves = rr.bound_solves;
+  } else {
+    pt.freq_hz = options.reference_freq_hz;
+    pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
+    pt.bound_solves = 1;
+  }
+  pt.robustness = Robustness(pt.bounds);
+  return pt;
+}
+
+}  // namespace
+
 std::vector<RobustnessPoint> SweepRobustness(const BalanceFactory& factory,
                                              const std::vector<double>& values,
                                              const SweepOptions& options,
-                                             const DesignProgress& progress) {
+                                             const DesignProgress& progress,
+                                             const SweepPointDone& point_done,
+                                             const std::vector<bool>& finished) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
-  std::vector<RobustnessPoint> out;
-  const BoundsResult* previous = nullptr;
-  for (double p : values) {
-    const std::unique_ptr<HarmonicBalance> balance = factory(p);
-    const HarmonicBalance& system = *balance;
-    const BoundsOptions bo = WithSeeds(options.bounds, system.num_alpha(),
-                                       options.warm_start ? previous : nullptr);
-    RobustnessPoint pt;
-    pt.parameter = p;
-    if (options.track_peak) {
-      const ResonanceResult rr = FindResonance(system, options.search, bo);
-      pt.freq_hz = rr.freq_hz;
-      pt.bounds = rr.bounds;
-      pt.bound_solves = rr.bound_solves;
-    } else {
-      pt.freq_hz = options.reference_freq_hz;
-      pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
-      pt.bound_solves = 1;
-    }
-    pt.robustness = Robustness(pt.bounds);
-    out.push_back(std::move(pt));
-    previous = &out.back().bounds;
-    if (progress) progress(static_cast<int>(out.size()), static_cast<int>(values.size()));
+  const int n = static_cast<int>(values.size());
+  if (!finished.empty() && static_cast<int>(finished.size()) != n) {
+    throw std::invalid_argument("SweepRobustness: `finished` must have one entry per value");
   }
+  std::vector<RobustnessPoint> out(n);
+  std::vector<int> pending;
+  for (int i = 0; i < n; ++i) {
+    if (finished.empty() || !finished[i]) pending.push_back(i);
+  }
+  int done = n - static_cast<int>(pending.size());
+  const RobustnessPoint* previous = nullptr;  // warm start: serial, in order (IsValid)
+  RunWorkUnits(
+      pending, options.threads,
+      [&](int i) {
+        const std::unique_ptr<HarmonicBalance> balance = factory(values[i]);
+        const BoundsOptions bo =
+            WithSeeds(options.bounds, balance->num_alpha(),
+                      options.warm_start && previous ? &previous->bounds : nullptr);
+        out[i] = ComputeRobustnessPoint(*balance, values[i], options, bo);
+      },
+      [&](int i) {
+        previous = &out[i];
+        if (point_done) point_done(i, out[i]);
+        if (progress) progress(++done, n);
+      });
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "fricrom/reduced_body.h"
+#include "io/content_hash.h"
 #include "io/hdf5_file.h"
 
 namespace fricrom {
@@ -26,70 +27,6 @@ std::string Lower(std::string s) {
 std::string Upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return s;
-}
-
-// Two 64-bit hashes of one byte stream: FNV-1a byte by byte, and a multiply-xorshift over 8-byte
-// words (independent mixing, so one collision does not imply the other).
-class Hasher {
- public:
-  void Add(const void* data, size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) {
-      fnv_ = (fnv_ ^ p[i]) * 0x100000001b3ULL;
-      word_ |= static_cast<uint64_t>(p[i]) << (8 * fill_);
-      if (++fill_ == 8) Flush();
-    }
-  }
-  void Add(const std::string& s) {
-    const uint64_t n = s.size();
-    Add(&n, sizeof n);  // length prefix: "ab"+"c" differs from "a"+"bc"
-    Add(s.data(), s.size());
-  }
-  std::string Hex() {
-    Flush();
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%016llx%016llx", static_cast<unsigned long long>(fnv_),
-                  static_cast<unsigned long long>(Mix(mix_ ^ count_)));
-    return buf;
-  }
-
- private:
-  static uint64_t Mix(uint64_t x) {  // splitmix64 finaliser
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ULL;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  }
-  void Flush() {
-    if (fill_ == 0) return;
-    mix_ = Mix(mix_ ^ word_ ^ (static_cast<uint64_t>(fill_) << 56)) * 0x9e3779b97f4a7c15ULL;
-    count_ += fill_;
-    word_ = 0;
-    fill_ = 0;
-  }
-  uint64_t fnv_ = 0xcbf29ce484222325ULL;
-  uint64_t mix_ = 0x243f6a8885a308d3ULL;
-  uint64_t word_ = 0, count_ = 0;
-  int fill_ = 0;
-};
-
-void HashFile(const std::string& path, Hasher* h) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    h->Add("missing " + path);  // the reader will fail on it; the key just has to differ
-    return;
-  }
-  h->Add(fs::path(path).extension().string());
-  std::vector<char> buf(1 << 20);
-  uint64_t total = 0;
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const size_t got = static_cast<size_t>(in.gcount());
-    h->Add(buf.data(), got);
-    total += got;
-  }
-  h->Add(&total, sizeof total);
 }
 
 // Decks pulled in by `*INCLUDE, INPUT=file` (relative to the including deck), recursively.
