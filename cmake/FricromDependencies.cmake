@@ -49,6 +49,10 @@ fricrom_require(CLI11_FOUND "CLI11" libcli11-dev)
 find_package(nlohmann_json 3 QUIET)
 fricrom_require(nlohmann_json_FOUND "nlohmann-json" nlohmann-json3-dev)
 
+# Units of work over ranks under mpirun (src/app/mpi_units.cpp); the library itself has no MPI.
+find_package(MPI QUIET COMPONENTS C)
+fricrom_require(MPI_C_FOUND "MPI (OpenMPI)" libopenmpi-dev)
+
 if(FRICROM_BUILD_TESTS)
   find_package(GTest QUIET)
   fricrom_require(GTest_FOUND "GoogleTest" libgtest-dev)

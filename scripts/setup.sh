@@ -25,6 +25,7 @@ PACKAGES=(
   gmsh                     # blade-sector and damper geometry + meshing (scripts/make_meshes.sh)
   libopenblas0-pthread     # optimised BLAS/LAPACK for CHOLMOD (5x faster factor than reference BLAS)
   python3-scipy            # benchmarks/reduce_vs_scipy.py, scripts/geometry_noa.py (Brent search)
+  libopenmpi-dev openmpi-bin  # mpirun -np N fricrom sweep: values over MPI ranks
 )
 
 missing=()

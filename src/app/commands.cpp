@@ -1,4 +1,5 @@
 #include "app/commands.h"
+#include "app/mpi_units.h"
 
 #include <unistd.h>
 
@@ -424,6 +425,11 @@ int Run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     std::cerr << "fricrom: error: " << e.what() << "\nRun with --help for more information.\n";
+    return 2;
+  }
+  if (MpiSize() > 1 && !app.got_subcommand("sweep")) {
+    std::cerr << "fricrom: error: only `sweep` distributes its work over MPI ranks so far; run "
+                 "this command without mpirun (or with -np 1)\n";
     return 2;
   }
   // One BLAS thread for the harmonic-balance commands (fricrom/blas_threads.h says why); the

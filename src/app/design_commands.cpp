@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "app/cli_common.h"
+#include "app/mpi_units.h"
 #include "app/result_files.h"
 #include "app/run_journal.h"
 #include "fricrom/bounds.h"
@@ -362,31 +363,57 @@ int DesignCommands::State::RunSweep() {
   so.search.scan_points = 21;
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
   so.threads = bo.method == BoundsOptions::kReducedSpace ? threads : 1;
-  if (!track_peak) so.reference_freq_hz = ReferenceFrequency(c0, bo, &solves);
+  if (!track_peak) {
+    // Under MPI, rank 0 locates the reference (possibly a peak search) and shares it.
+    const double f = MpiRank() == 0 ? ReferenceFrequency(c0, bo, &solves) : 0.0;
+    so.reference_freq_hz = BroadcastFromRoot(f);
+  }
   std::vector<double> values;
   for (int i = 0; i < steps; ++i) values.push_back(from + (to - from) * i / (steps - 1));
+  const BalanceFactory factory = [&](double p) {
+    return MakeCaseBalance(sweep_case.Load({{param, p}}));
+  };
+  // One value on one thread, as a journal row: the unit an MPI rank computes.
+  const auto compute_row = [&](int i) {
+    SweepOptions one = so;
+    one.threads = 1;
+    return SweepRowJson(c0.model, SweepRobustness(factory, {values[i]}, one).front()).dump();
+  };
+  const bool ranks = MpiSize() > 1;
+  if (ranks && MpiRank() != 0) {  // a worker rank: units in, rows out; rank 0 writes
+    DistributeUnits({}, compute_row, {});
+    return 0;
+  }
 
   // Units of work are the values; each finished one goes to the journal at once, so a killed
   // run resumes where it stopped. The header holds everything that changes a result.
   const fs::path dir = OutDir(c0, "sweep_" + param);
   RunJournal journal(dir, "sweep", SweepJournalHeader(values, so), resume);
   std::vector<bool> finished(values.size(), false);
-  for (const auto& [unit, row] : journal.finished()) {
-    if (unit >= 0 && unit < steps) finished[unit] = true;
+  std::vector<int> pending;
+  for (int i = 0; i < steps; ++i) {
+    finished[i] = journal.finished().count(i) > 0;
+    if (!finished[i]) pending.push_back(i);
   }
-  const int resumed = static_cast<int>(journal.finished().size());
-  const BalanceFactory factory = [&](double p) {
-    return MakeCaseBalance(sweep_case.Load({{param, p}}));
-  };
+  const int resumed = steps - static_cast<int>(pending.size());
   Progress progress{ShowProgress(), "sweep " + param};
   int computed = 0;
-  SweepRobustness(
-      factory, values, so, progress,
-      [&](int i, const RobustnessPoint& pt) {
-        journal.Record(i, SweepRowJson(c0.model, pt));
-        ++computed;
-      },
-      finished);
+  if (ranks) {
+    int done = resumed;
+    DistributeUnits(pending, compute_row, [&](int i, const std::string& row) {
+      journal.Record(i, json::parse(row));
+      ++computed;
+      progress(++done, steps);
+    });
+  } else {
+    SweepRobustness(
+        factory, values, so, progress,
+        [&](int i, const RobustnessPoint& pt) {
+          journal.Record(i, SweepRowJson(c0.model, pt));
+          ++computed;
+        },
+        finished);
+  }
   progress.Done();
   SweepColumns cols;
   for (int i = 0; i < steps; ++i) AppendSweepRow(journal.finished().at(i), &cols);
@@ -420,8 +447,11 @@ int DesignCommands::State::RunSweep() {
     j["mixed_configuration_at_max"] = mixed_max;
     j["reference_freq_hz"] = track_peak ? json(nullptr) : json(so.reference_freq_hz);
     j["inner_solves"] = solves;
-    j["units"] = {{"total", steps}, {"computed", computed}, {"resumed", resumed},
-                  {"threads", WorkerThreads(so.threads, steps - resumed)}};
+    j["units"] = {{"total", steps},
+                  {"computed", computed},
+                  {"resumed", resumed},
+                  {"threads", ranks ? 1 : WorkerThreads(so.threads, steps - resumed)},
+                  {"ranks", MpiSize()}};
     j["wall_s"] = wall;
     j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
     std::cout << j.dump() << "\n";

@@ -2,7 +2,8 @@
 # ctest: a sweep killed with SIGKILL at a random moment and rerun with --resume writes the same
 # files as an uninterrupted run; no value is computed twice (the journal's count plus the
 # resumed run's computed count is the total); no temporary file is left; a second run on a folder
-# another run is writing is refused with exit 2. Also: 1 and 2 threads give the same files.
+# another run is writing is refused with exit 2. Also: 1 and 2 threads, and 2 MPI ranks, give the
+# same files as the serial run.
 set -euo pipefail
 fricrom="${1:?usage: sweep_resume_test.sh FRICROM REPO_ROOT}"
 root="${2:?usage: sweep_resume_test.sh FRICROM REPO_ROOT}"
@@ -32,6 +33,21 @@ PY
   cmp -s "$1/sweep.csv" "$2/sweep.csv" || fail "$1/sweep.csv and $2/sweep.csv differ"
 }
 compare "$tmp/ref" "$tmp/two"
+
+# Two MPI ranks (values handed out by rank 0, which computes too): the same files.
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${sweep[@]}" --steps 40 \
+  --out "$tmp/mpi" > "$tmp/mpi.json" || fail "mpirun -np 2 sweep failed"
+"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == 40, u' \
+  "$tmp/mpi.json" || fail "the MPI run did not use 2 ranks"
+compare "$tmp/ref" "$tmp/mpi"
+# Commands that do not distribute their work refuse to run on several ranks (exit 2).
+set +e
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" modes "$root/meshes/lumped3/baseline.toml" \
+  > /dev/null 2> "$tmp/mpi_modes.err"
+code=$?
+set -e
+[ "$code" != 0 ] || fail "mpirun -np 2 fricrom modes succeeded"
+grep -q "only \`sweep\` distributes" "$tmp/mpi_modes.err" || fail "mpirun modes: unclear message"
 
 # Kill at a random moment between 0.3 and 2.3 s, then resume.
 "$fricrom" "${sweep[@]}" --steps 40 --threads 2 --out "$tmp/k" > /dev/null 2>&1 &

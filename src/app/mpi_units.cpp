@@ -1,0 +1,182 @@
+#include "app/mpi_units.h"
+
+// The C API only: OpenMPI's mpi.h otherwise pulls in the removed C++ bindings.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+namespace fricrom::app {
+namespace {
+
+bool g_active = false;
+
+// Debian's sequential MUMPS (linked through Ipopt) exports its own C stubs MPI_Init,
+// MPI_Comm_rank, MPI_Finalize and MPI_Wtime (rank always 0, finalise a no-op), and the dynamic
+// linker binds our calls to them. These two go through the standard profiling names (PMPI_*),
+// which only the real MPI library defines; the other calls we make are not stubbed.
+int CommRank() {
+  int r = 0;
+  PMPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+enum Tag : int {
+  kRequest = 1,  // worker -> root: an int, the unit it finished (-1: none yet)
+  kResult = 2,   // worker -> root: the finished unit's result text (after a kRequest >= 0)
+  kAssign = 3,   // root -> worker: an int, the next unit (-1: no more, stop)
+  kFailed = 4,   // worker -> root: the text of the exception its unit threw
+};
+
+bool LaunchedByMpi() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"}) {
+    if (std::getenv(v) != nullptr) return true;
+  }
+  return false;
+}
+
+std::string ReceiveText(int source, int tag) {
+  MPI_Status st;
+  MPI_Probe(source, tag, MPI_COMM_WORLD, &st);
+  int n = 0;
+  MPI_Get_count(&st, MPI_CHAR, &n);
+  std::string text(static_cast<size_t>(n), '\0');
+  MPI_Recv(text.data(), n, MPI_CHAR, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return text;
+}
+
+void SendText(const std::string& text, int tag) {
+  MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, tag, MPI_COMM_WORLD);
+}
+
+// Rank > 0: ask, compute, send, until told to stop.
+void Work(const std::function<std::string(int)>& compute) {
+  int done = -1;
+  std::string result;
+  for (;;) {
+    MPI_Send(&done, 1, MPI_INT, 0, kRequest, MPI_COMM_WORLD);
+    if (done >= 0) SendText(result, kResult);
+    int unit = -1;
+    MPI_Recv(&unit, 1, MPI_INT, 0, kAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (unit < 0) return;
+    try {
+      result = compute(unit);
+    } catch (const std::exception& e) {
+      SendText(e.what(), kFailed);
+      MPI_Recv(&unit, 1, MPI_INT, 0, kAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);  // the stop
+      return;
+    }
+    done = unit;
+  }
+}
+
+}  // namespace
+
+MpiSession::MpiSession(int* argc, char*** argv) {
+  if (!LaunchedByMpi()) return;
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  g_active = true;
+}
+
+MpiSession::~MpiSession() {
+  if (g_active) PMPI_Finalize();
+  g_active = false;
+}
+
+int MpiSession::Finish(int code) {
+  if (g_active && code != 0 && MpiSize() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+  return code;
+}
+
+int MpiRank() { return g_active ? CommRank() : 0; }
+
+int MpiSize() {
+  int n = 1;
+  if (g_active) MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+double BroadcastFromRoot(double v) {
+  if (g_active) MPI_Bcast(&v, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  return v;
+}
+
+void DistributeUnits(const std::vector<int>& pending, const std::function<std::string(int)>& compute,
+                     const std::function<void(int, const std::string&)>& finished) {
+  if (MpiSize() < 2) throw std::logic_error("DistributeUnits needs several MPI ranks");
+  if (MpiRank() != 0) return Work(compute);
+  // Rank 0: a local worker thread takes units from the same queue as the remote ranks; only
+  // this (main) thread calls MPI (MPI_THREAD_FUNNELED).
+  std::mutex lock;
+  size_t next = 0;
+  std::exception_ptr error;
+  auto take = [&]() {
+    const std::lock_guard<std::mutex> g(lock);
+    return (error || next >= pending.size()) ? -1 : pending[next++];
+  };
+  std::thread local([&] {
+    for (int unit = take(); unit >= 0; unit = take()) {
+      try {
+        const std::string result = compute(unit);
+        const std::lock_guard<std::mutex> g(lock);
+        if (!error) finished(unit, result);
+      } catch (...) {
+        const std::lock_guard<std::mutex> g(lock);
+        if (!error) error = std::current_exception();
+      }
+    }
+  });
+  int stopped = 0;
+  const int workers = MpiSize() - 1;
+  while (stopped < workers) {
+    int flag = 0;
+    MPI_Status st;
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+    if (!flag) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    const int from = st.MPI_SOURCE;
+    if (st.MPI_TAG == kFailed) {
+      const std::string what = ReceiveText(from, kFailed);
+      {
+        const std::lock_guard<std::mutex> g(lock);
+        if (!error)
+          error = std::make_exception_ptr(
+              std::runtime_error("rank " + std::to_string(from) + ": " + what));
+      }
+      int stop = -1;
+      MPI_Send(&stop, 1, MPI_INT, from, kAssign, MPI_COMM_WORLD);
+      ++stopped;
+      continue;
+    }
+    int done = -1;
+    MPI_Recv(&done, 1, MPI_INT, from, kRequest, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (done >= 0) {
+      const std::string result = ReceiveText(from, kResult);
+      const std::lock_guard<std::mutex> g(lock);
+      if (!error) {
+        try {
+          finished(done, result);
+        } catch (...) {
+          error = std::current_exception();
+        }
+      }
+    }
+    const int unit = take();
+    MPI_Send(&unit, 1, MPI_INT, from, kAssign, MPI_COMM_WORLD);
+    if (unit < 0) ++stopped;
+  }
+  local.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace fricrom::app
