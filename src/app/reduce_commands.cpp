@@ -298,21 +298,29 @@ struct ReduceCommands::State {
     const bool have_model = finite && (summary.status == CraigBamptonStatus::kSuccess ||
                                        summary.status == CraigBamptonStatus::kChecksFailed);
     json out = Report(in, sel, summary, in.read_s);
-    ReferenceReport ref;
-    if (have_model && !no_reference) {
-      ref = CompareWithFullModel(
-          {&in.model, in.k, in.m, &sel, &red, &summary, cutoff_hz, compare_modes},
-          [this](const std::string& w) { Progress(w); });
-    }
-    AddReference(ref, have_model, &out);
-    if (have_model) {
+    const auto write = [&](const json& report) {
       Progress("writing " + to);
       WriteReducedModel(
           to, {&in.model, in.m, &sel, &red, &summary,
                boundary_nodes.empty() ? (boundary_dofs.empty() ? boundary : "rows " + boundary_dofs)
                                       : "nodes " + boundary_nodes,
-               SplitNames(boundary), cutoff_hz, modal_damping, &out});
+               SplitNames(boundary), cutoff_hz, modal_damping, &report});
+    };
+    ReferenceReport ref;
+    if (have_model && !no_reference) {
+      // The model first, so a run killed during the (long) full-model references keeps its
+      // reduction; the file says the references are pending until it is rewritten below.
+      json pending = out;
+      AddReference(ReferenceReport{}, have_model, &pending);
+      pending["checks"]["reference_passed"] = nullptr;
+      pending["reference_status"] = "pending: written before the full-model reference checks";
+      write(pending);
+      ref = CompareWithFullModel(
+          {&in.model, in.k, in.m, &sel, &red, &summary, cutoff_hz, compare_modes},
+          [this](const std::string& w) { Progress(w); });
     }
+    AddReference(ref, have_model, &out);
+    if (have_model) write(out);
     out["wall_s"] = std::chrono::duration<double>(Clock::now() - t_start).count();
     out["peak_rss_mb"] = PeakRssMb();
     const json& rigid = out["rigid_body"];
