@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <numeric>
@@ -268,6 +269,10 @@ void DesignCommands::Register(CLI::App& app) {
       ->check(CLI::Range(1, 1000000));
   s.verify->add_option("--time-runs", s.ti_runs, "Time integrations from different initial states")
       ->check(CLI::Range(0, 1000));
+  s.verify
+      ->add_option("--threads", s.threads,
+                   "Worker threads over the alpha samples (0: every core; same result for any)")
+      ->check(CLI::Range(0, 4096));
 }
 
 int DesignCommands::Run() {
@@ -558,27 +563,57 @@ int DesignCommands::State::RunVerify() {
     return 1;
   }
   const double lo = b.min.amplitude, hi = b.max.amplitude, tol = 1e-6;
-  // a) α sampling: the corners of the box first, then uniform random (fixed seed).
+  // a) α sampling: the corners of the box first, then uniform random (fixed seed), drawn before
+  // any is solved so that sample i is the same α for any number of threads. A balance caches
+  // per-frequency data, so every worker thread solves on its own copy (built on demand).
   std::mt19937 rng(20241);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> alphas(samples, Eigen::VectorXd(nc));
+  for (int i = 0; i < samples; ++i) {
+    for (int k = 0; k < nc; ++k) {
+      alphas[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
+    }
+  }
+  std::vector<double> amplitude(samples, NAN);  // NaN: did not converge
+  std::mutex pool_lock;
+  std::vector<std::unique_ptr<HarmonicBalance>> pool;
+  pool.push_back(nullptr);  // the first worker reuses `system`
+  RunWorkUnits(
+      [&] {
+        std::vector<int> all(samples);
+        std::iota(all.begin(), all.end(), 0);
+        return all;
+      }(),
+      threads,
+      [&](int i) {
+        std::unique_ptr<HarmonicBalance> own;
+        bool shared = false;
+        {
+          const std::lock_guard<std::mutex> g(pool_lock);
+          if (!pool.empty()) {
+            own = std::move(pool.back());
+            pool.pop_back();
+            shared = own == nullptr;
+          }
+        }
+        if (!own && !shared) own = MakeCaseBalance(c);
+        const HarmonicBalance& sys = shared ? system : *own;
+        const FrfPoint p = SolveAtFrequency(sys, alphas[i], freq, Eigen::VectorXd(), FrfOptions{});
+        if (p.status == SolverStatus::kConverged) amplitude[i] = p.amplitude;
+        const std::lock_guard<std::mutex> g(pool_lock);
+        pool.push_back(std::move(own));
+      },
+      [](int) {});
   int failed = 0, outside = 0, inside = 0;
   double smin = NAN, smax = NAN;
-  Eigen::VectorXd last;
-  for (int i = 0; i < samples; ++i) {
-    Eigen::VectorXd a(nc);
-    if (nc < 20 && i < (1 << nc)) {
-      for (int k = 0; k < nc; ++k) a[k] = ((i >> k) & 1) ? 1.0 : -1.0;
-    } else {
-      for (int k = 0; k < nc; ++k) a[k] = u(rng);
-    }
-    const FrfPoint p = SolveAtFrequency(system, a, freq, Eigen::VectorXd(), FrfOptions{});
-    if (p.status != SolverStatus::kConverged) {
+  for (double y : amplitude) {
+    if (std::isnan(y)) {
       ++failed;
       continue;
     }
-    smin = std::isnan(smin) ? p.amplitude : std::min(smin, p.amplitude);
-    smax = std::isnan(smax) ? p.amplitude : std::max(smax, p.amplitude);
-    if (p.amplitude < lo * (1 - tol) || p.amplitude > hi * (1 + tol))
+    smin = std::isnan(smin) ? y : std::min(smin, y);
+    smax = std::isnan(smax) ? y : std::max(smax, y);
+    if (y < lo * (1 - tol) || y > hi * (1 + tol))
       ++outside;
     else
       ++inside;

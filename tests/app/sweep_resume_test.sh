@@ -114,4 +114,14 @@ kill -9 "$pid" 2>/dev/null || true
 wait "$pid" 2>/dev/null || true
 [ "$code" = 2 ] || fail "concurrent run on one --out: exit $code, expected 2"
 grep -q "another fricrom run is writing" "$tmp/busy.err" || fail "concurrent run: unclear message"
+# verify: the alpha samples on 1 and 2 threads give the same sampling report.
+for t in 1 2; do
+  "$fricrom" verify "$root/meshes/lumped3/baseline.toml" --freq 266 --alpha-samples 40 --time-runs 0 \
+    --threads "$t" --json --quiet --out "$tmp/verify$t" > "$tmp/verify$t.json" || fail "verify --threads $t failed"
+done
+"$py" - "$tmp/verify1.json" "$tmp/verify2.json" <<'PY' || fail "verify: 1 and 2 threads differ"
+import json, sys
+a, b = (json.load(open(f))["sampling"] for f in sys.argv[1:3])
+assert a == b and a["converged"] == 40, (a, b)
+PY
 echo "sweep_resume_test: passed"
