@@ -17,7 +17,7 @@ int WorkerThreads(int requested, int units);
 // unit is handed out and the first exception is rethrown once the running units have ended.
 // unit() must not share mutable state between indices; with one thread everything runs on the
 // calling thread.
-void RunWorkUnits(const std::vector<int>& pending, int threads, const std::function<void(int)>& unit,
-                  const std::function<void(int)>& finished);
+void RunWorkUnits(const std::vector<int>& pending, int threads,
+                  const std::function<void(int)>& unit, const std::function<void(int)>& finished);
 
 }  // namespace fricrom

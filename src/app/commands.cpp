@@ -1,5 +1,4 @@
 #include "app/commands.h"
-#include "app/mpi_units.h"
 
 #include <unistd.h>
 
@@ -18,6 +17,7 @@
 #include "app/cli_common.h"
 #include "app/design_commands.h"
 #include "app/fe_commands.h"
+#include "app/mpi_units.h"
 #include "app/reduce_commands.h"
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"

@@ -147,15 +147,24 @@ struct DesignCommands::State {
   json SweepJournalHeader(const std::vector<double>& values, const SweepOptions& so) const {
     Hasher h;
     HashFile(sweep_case.path, &h);
-    return {{"journal", "fricrom-sweep-1"}, {"version", Version()},
-            {"case", sweep_case.path},      {"case_content", h.Hex()},
-            {"sets", sweep_case.sets},      {"harmonics", sweep_case.harmonics},
-            {"samples", sweep_case.samples}, {"balance", sweep_case.balance},
-            {"receptance", sweep_case.receptance}, {"param", param},
-            {"values", values},             {"reference_freq_hz", so.reference_freq_hz},
-            {"track_peak", track_peak},     {"seeds", seeds},
-            {"objective", objective},       {"method", method},
-            {"check_samples", check_samples}, {"random_seeds", random_seeds},
+    return {{"journal", "fricrom-sweep-1"},
+            {"version", Version()},
+            {"case", sweep_case.path},
+            {"case_content", h.Hex()},
+            {"sets", sweep_case.sets},
+            {"harmonics", sweep_case.harmonics},
+            {"samples", sweep_case.samples},
+            {"balance", sweep_case.balance},
+            {"receptance", sweep_case.receptance},
+            {"param", param},
+            {"values", values},
+            {"reference_freq_hz", so.reference_freq_hz},
+            {"track_peak", track_peak},
+            {"seeds", seeds},
+            {"objective", objective},
+            {"method", method},
+            {"check_samples", check_samples},
+            {"random_seeds", random_seeds},
             {"interface_seeds", interface_seeds}};
   }
   // On a terminal only (JSON goes to stdout, so --json does not silence it).
@@ -461,7 +470,8 @@ int DesignCommands::State::RunSweep() {
     j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
-    if (resumed > 0) std::cout << "Resumed: " << resumed << " of " << steps << " values from the journal\n";
+    if (resumed > 0)
+      std::cout << "Resumed: " << resumed << " of " << steps << " values from the journal\n";
     std::cout << "Robustness over " << param << " in [" << from << ", " << to << "], " << steps
               << " values, "
               << (track_peak ? std::string("at the peak of y_max")

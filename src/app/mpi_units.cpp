@@ -109,7 +109,8 @@ double BroadcastFromRoot(double v) {
   return v;
 }
 
-void DistributeUnits(const std::vector<int>& pending, const std::function<std::string(int)>& compute,
+void DistributeUnits(const std::vector<int>& pending,
+                     const std::function<std::string(int)>& compute,
                      const std::function<void(int, const std::string&)>& finished) {
   if (MpiSize() < 2) throw std::logic_error("DistributeUnits needs several MPI ranks");
   if (MpiRank() != 0) return Work(compute);

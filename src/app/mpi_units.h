@@ -32,7 +32,8 @@ double BroadcastFromRoot(double v);
 // unit, one call at a time, with the text compute(i) returned on whichever rank ran it; on the
 // other ranks `pending` and `finished` are not used. Returns on every rank when all are done.
 // Needs MpiSize() > 1.
-void DistributeUnits(const std::vector<int>& pending, const std::function<std::string(int)>& compute,
+void DistributeUnits(const std::vector<int>& pending,
+                     const std::function<std::string(int)>& compute,
                      const std::function<void(int, const std::string&)>& finished);
 
 }  // namespace fricrom::app

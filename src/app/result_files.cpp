@@ -8,11 +8,10 @@
 #include <utility>
 
 #include "app/cli_common.h"
-#include "io/atomic_file.h"
-#include "io/content_hash.h"
 #include "fricrom/linear.h"
 #include "fricrom/units.h"
 #include "io/atomic_file.h"
+#include "io/content_hash.h"
 #include "io/hdf5_file.h"
 
 namespace fricrom::app {
@@ -276,8 +275,10 @@ void WriteManifest(const std::filesystem::path& dir, const std::string& name,
                     {"bytes", std::filesystem::file_size(f)},
                     {"content", h.Hex()}});
   }
-  const nlohmann::json m = {{"manifest", "fricrom-manifest-1"}, {"command", name},
-                            {"fricrom", Version()}, {"files", list}};
+  const nlohmann::json m = {{"manifest", "fricrom-manifest-1"},
+                            {"command", name},
+                            {"fricrom", Version()},
+                            {"files", list}};
   WriteTextAtomically(dir / (name + ".manifest.json"), m.dump(1) + "\n");
 }
 

@@ -1,10 +1,11 @@
+#include "fricrom/design.h"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
-#include "fricrom/design.h"
 #include "fricrom/work_queue.h"
 
 namespace fricrom {

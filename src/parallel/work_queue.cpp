@@ -13,8 +13,8 @@ int WorkerThreads(int requested, int units) {
   return std::max(1, std::min(n, units));
 }
 
-void RunWorkUnits(const std::vector<int>& pending, int threads, const std::function<void(int)>& unit,
-                  const std::function<void(int)>& finished) {
+void RunWorkUnits(const std::vector<int>& pending, int threads,
+                  const std::function<void(int)>& unit, const std::function<void(int)>& finished) {
   const int n = static_cast<int>(pending.size());
   if (n == 0) return;
   const int workers = WorkerThreads(threads, n);
