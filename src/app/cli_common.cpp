@@ -148,4 +148,23 @@ std::vector<std::string> RegimeNames(const std::vector<ContactRegime>& regimes) 
   return out;
 }
 
+std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts) {
+  std::vector<Eigen::VectorXd> seeds;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    const std::vector<double> v = ParseList(item, "--seeds");
+    if (static_cast<int>(v.size()) != num_contacts) {
+      throw CLI::ValidationError("--seeds", "each seed needs " + std::to_string(num_contacts) +
+                                                " values (one per contact), got '" + item + "'");
+    }
+    for (double a : v) {
+      if (!(std::abs(a) <= 1.0))
+        throw CLI::ValidationError("--seeds", "values must lie in [-1, 1]");
+    }
+    seeds.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()));
+  }
+  return seeds;
+}
+
 }  // namespace fricrom::app

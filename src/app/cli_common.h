@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Dense>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -43,6 +44,8 @@ CLI::Validator NonNegative();
 std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c);
 
 std::vector<double> ParseList(const std::string& text, const std::string& flag);
+// --seeds "a,b,c,d;e,f,g,h": semicolon-separated α vectors of num_contacts values in [-1, 1].
+std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts);
 std::string Version();
 void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command);
 

@@ -17,8 +17,9 @@
 
 #include "app/cli_common.h"
 #include "app/mpi_units.h"
+#include "app/progress_line.h"
 #include "app/result_files.h"
-#include "app/run_journal.h"
+#include "app/unit_runs.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
@@ -43,50 +44,6 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 }
 
 json Num(double v) { return NumberOrNull(v); }
-
-// Seeds "a,b,c,d;e,f,g,h" (semicolon-separated α vectors).
-std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts) {
-  std::vector<Eigen::VectorXd> seeds;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ';')) {
-    const std::vector<double> v = ParseList(item, "--seeds");
-    if (static_cast<int>(v.size()) != num_contacts) {
-      throw CLI::ValidationError("--seeds", "each seed needs " + std::to_string(num_contacts) +
-                                                " values (one per contact), got '" + item + "'");
-    }
-    for (double a : v) {
-      if (!(std::abs(a) <= 1.0))
-        throw CLI::ValidationError("--seeds", "values must lie in [-1, 1]");
-    }
-    seeds.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()));
-  }
-  return seeds;
-}
-
-struct Progress {
-  bool enabled;
-  std::string label;
-  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-  void operator()(int done, int total) const { (*this)("", done, total); }
-  void operator()(const std::string& stage, int done, int total) const {
-    if (!enabled) return;
-    const double t = Seconds(t0);
-    std::cerr << "\r" << label << ": " << (stage.empty() ? "" : stage + " ") << done;
-    if (total > 0) std::cerr << "/" << total;
-    std::cerr << "  (" << std::fixed << std::setprecision(1) << t << " s";
-    // Rate and time left from the units finished so far (units differ in cost: an estimate).
-    if (total > 0 && done > 0 && done < total && t > 0.0) {
-      const double rate = done / t;
-      std::cerr << ", " << std::setprecision(rate < 1.0 ? 3 : 1) << rate << "/s, ETA "
-                << std::setprecision(0) << (total - done) / rate << " s";
-    }
-    std::cerr << ")   " << std::flush;
-  }
-  void Done() const {
-    if (enabled) std::cerr << "\n";
-  }
-};
 
 void Plot(const std::string& script, const std::vector<std::string>& args) {
   std::string cmd =
@@ -387,58 +344,25 @@ int DesignCommands::State::RunSweep() {
   const BalanceFactory factory = [&](double p) {
     return MakeCaseBalance(sweep_case.Load({{param, p}}));
   };
-  // One value on one thread, as a journal row: the unit an MPI rank computes.
-  const auto compute_row = [&](int i) {
-    SweepOptions one = so;
-    one.threads = 1;
-    return SweepRowJson(c0.model, SweepRobustness(factory, {values[i]}, one).front()).dump();
-  };
-  const bool ranks = MpiSize() > 1;
-  if (ranks && MpiRank() != 0) {  // a worker rank: units in, rows out; rank 0 writes
-    DistributeUnits({}, compute_row, {});
-    return 0;
-  }
-
-  // Units of work are the values; each finished one goes to the journal at once, so a killed
-  // run resumes where it stopped. The header holds everything that changes a result.
-  const fs::path dir = OutDir(c0, "sweep_" + param);
-  RunJournal journal(dir, "sweep", SweepJournalHeader(values, so), resume);
-  std::vector<bool> finished(values.size(), false);
-  std::vector<int> pending;
-  for (int i = 0; i < steps; ++i) {
-    finished[i] = journal.finished().count(i) > 0;
-    if (!finished[i]) pending.push_back(i);
-  }
-  const int resumed = steps - static_cast<int>(pending.size());
-  Progress progress{ShowProgress(), "sweep " + param};
-  int computed = 0;
-  if (ranks) {
-    int done = resumed;
-    DistributeUnits(pending, compute_row, [&](int i, const std::string& row) {
-      journal.Record(i, json::parse(row));
-      ++computed;
-      progress(++done, steps);
-    });
-  } else {
-    SweepRobustness(
-        factory, values, so, progress,
-        [&](int i, const RobustnessPoint& pt) {
-          journal.Record(i, SweepRowJson(c0.model, pt));
-          ++computed;
-        },
-        finished);
-  }
-  progress.Done();
-  SweepColumns cols;
-  for (int i = 0; i < steps; ++i) AppendSweepRow(journal.finished().at(i), &cols);
-  solves += 2 * cols.bound_solves;
-  const double wall = Seconds(t0);
-
+  // Units of work are the values (threads or MPI ranks); rank 0 journals and writes.
+  const fs::path dir = MpiRank() == 0 ? OutDir(c0, "sweep_" + param) : fs::path();
   const fs::path h5p = dir / "sweep.h5", csvp = dir / "sweep.csv";
-  WriteSweepFiles(c0, param, values, cols, track_peak ? NAN : so.reference_freq_hz, wall, solves,
-                  {h5p, csvp});
-  WriteManifest(dir, "sweep", {h5p, csvp});
-  journal.Complete();
+  Progress progress{ShowProgress(), "sweep " + param};
+  double wall = 0.0;
+  const SweepUnitsRun run = RunSweepUnits(
+      dir, SweepJournalHeader(values, so), resume, c0.model, values, so, factory, progress,
+      [&](const SweepUnitsRun& r) {
+        progress.Done();
+        solves += 2 * r.columns.bound_solves;
+        wall = Seconds(t0);
+        WriteSweepFiles(c0, param, values, r.columns, track_peak ? NAN : so.reference_freq_hz, wall,
+                        solves, {h5p, csvp});
+        WriteManifest(dir, "sweep", {h5p, csvp});
+      });
+  if (run.worker) return 0;
+  const SweepColumns& cols = run.columns;
+  const int computed = run.computed, resumed = run.resumed;
+  const bool ranks = MpiSize() > 1;
   const auto& [r, ymin, ymax, emin, emax, fr, st, states_min, states_max, mixed_min, mixed_max,
                unit_solves] = cols;
   if (plot) Plot("plot_sweep.py", {h5p.string(), (dir / "sweep.png").string()});
@@ -574,8 +498,7 @@ int DesignCommands::State::RunVerify() {
   }
   const double lo = b.min.amplitude, hi = b.max.amplitude, tol = 1e-6;
   // a) α sampling: the corners of the box first, then uniform random (fixed seed), drawn before
-  // any is solved so that sample i is the same α for any number of threads. A balance caches
-  // per-frequency data, so every worker thread solves on its own copy (built on demand).
+  // any is solved, so that sample i is the same α for any number of threads.
   std::mt19937 rng(20241);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Eigen::VectorXd> alphas(samples, Eigen::VectorXd(nc));
@@ -584,36 +507,8 @@ int DesignCommands::State::RunVerify() {
       alphas[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
     }
   }
-  std::vector<double> amplitude(samples, NAN);  // NaN: did not converge
-  std::mutex pool_lock;
-  std::vector<std::unique_ptr<HarmonicBalance>> pool;
-  pool.push_back(nullptr);  // the first worker reuses `system`
-  RunWorkUnits(
-      [&] {
-        std::vector<int> all(samples);
-        std::iota(all.begin(), all.end(), 0);
-        return all;
-      }(),
-      threads,
-      [&](int i) {
-        std::unique_ptr<HarmonicBalance> own;
-        bool shared = false;
-        {
-          const std::lock_guard<std::mutex> g(pool_lock);
-          if (!pool.empty()) {
-            own = std::move(pool.back());
-            pool.pop_back();
-            shared = own == nullptr;
-          }
-        }
-        if (!own && !shared) own = MakeCaseBalance(c);
-        const HarmonicBalance& sys = shared ? system : *own;
-        const FrfPoint p = SolveAtFrequency(sys, alphas[i], freq, Eigen::VectorXd(), FrfOptions{});
-        if (p.status == SolverStatus::kConverged) amplitude[i] = p.amplitude;
-        const std::lock_guard<std::mutex> g(pool_lock);
-        pool.push_back(std::move(own));
-      },
-      [](int) {});
+  const std::vector<double> amplitude = SolveAlphaSamples(
+      system, [&] { return MakeCaseBalance(c); }, alphas, freq, threads);  // NaN: not converged
   int failed = 0, outside = 0, inside = 0;
   double smin = NAN, smax = NAN;
   for (double y : amplitude) {
