@@ -34,7 +34,9 @@ PY
 }
 compare "$tmp/ref" "$tmp/two"
 
-# Two MPI ranks (values handed out by rank 0, which computes too): the same files.
+# Two MPI ranks (values handed out by rank 0, which computes too): the same files. Containers often
+# forbid the cross-process memory attach of OpenMPI's shared-memory transport: plain copies.
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
 mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${sweep[@]}" --steps 80 \
   --out "$tmp/mpi" > "$tmp/mpi.json" || fail "mpirun -np 2 sweep failed"
 "$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == 80, u' \
