@@ -124,8 +124,8 @@ struct DesignCommands::State {
             {"random_seeds", random_seeds},
             {"interface_seeds", interface_seeds}};
   }
-  // On a terminal only (JSON goes to stdout, so --json does not silence it).
-  bool ShowProgress() const { return !quiet && isatty(STDERR_FILENO); }
+  // On stderr (JSON goes to stdout, so --json does not silence it); app/progress_line.h.
+  bool ShowProgress() const { return !quiet; }
 
   // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
   double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {

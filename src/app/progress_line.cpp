@@ -1,14 +1,22 @@
 #include "app/progress_line.h"
 
+#include <unistd.h>
+
 #include <iomanip>
 #include <iostream>
 
 namespace fricrom::app {
 
+bool Progress::IsTerminal() { return isatty(STDERR_FILENO) != 0; }
+
 void Progress::operator()(const std::string& stage, int done, int total) const {
   if (!enabled) return;
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cerr << "\r" << label << ": " << (stage.empty() ? "" : stage + " ") << done;
+  if (!terminal) {
+    if (t - *last_line_s < 10.0) return;
+    *last_line_s = t;
+  }
+  std::cerr << (terminal ? "\r" : "") << label << ": " << (stage.empty() ? "" : stage + " ") << done;
   if (total > 0) std::cerr << "/" << total;
   std::cerr << "  (" << std::fixed << std::setprecision(1) << t << " s";
   // Rate and time left from the units finished so far (units differ in cost: an estimate).
@@ -17,11 +25,11 @@ void Progress::operator()(const std::string& stage, int done, int total) const {
     std::cerr << ", " << std::setprecision(rate < 1.0 ? 3 : 1) << rate << "/s, ETA "
               << std::setprecision(0) << (total - done) / rate << " s";
   }
-  std::cerr << ")   " << std::flush;
+  std::cerr << (terminal ? ")   " : ")\n") << std::flush;
 }
 
 void Progress::Done() const {
-  if (enabled) std::cerr << "\n";
+  if (enabled && terminal) std::cerr << "\n";
 }
 
 }  // namespace fricrom::app

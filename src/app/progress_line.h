@@ -1,18 +1,25 @@
-// The progress line of long CLI runs on stderr: done/total, elapsed time, rate and ETA.
+// The progress of long CLI runs on stderr: done/total, elapsed time, rate and ETA. On a terminal
+// one line updated in place; otherwise (a batch job's log) a full line at most every 10 s, so
+// short runs stay silent and a Slurm log shows how far a long one got.
 #pragma once
 
 #include <chrono>
+#include <memory>
 #include <string>
 
 namespace fricrom::app {
 
 struct Progress {
-  bool enabled;  // the caller decides (a terminal, not --quiet)
+  bool enabled;  // the caller decides (not --quiet)
   std::string label;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  bool terminal = IsTerminal();
+  // Time of the last line written off a terminal (shared: copies of this object report together).
+  std::shared_ptr<double> last_line_s = std::make_shared<double>(0.0);
+  static bool IsTerminal();
   void operator()(int done, int total) const { (*this)("", done, total); }
   void operator()(const std::string& stage, int done, int total) const;
-  void Done() const;  // ends the line
+  void Done() const;  // ends the line (on a terminal)
 };
 
 }  // namespace fricrom::app
