@@ -16,7 +16,8 @@ void Progress::operator()(const std::string& stage, int done, int total) const {
     if (t - *last_line_s < 10.0) return;
     *last_line_s = t;
   }
-  std::cerr << (terminal ? "\r" : "") << label << ": " << (stage.empty() ? "" : stage + " ") << done;
+  std::cerr << (terminal ? "\r" : "") << label << ": " << (stage.empty() ? "" : stage + " ")
+            << done;
   if (total > 0) std::cerr << "/" << total;
   std::cerr << "  (" << std::fixed << std::setprecision(1) << t << " s";
   // Rate and time left from the units finished so far (units differ in cost: an estimate).
