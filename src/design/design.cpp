@@ -216,19 +216,7 @@ NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
     const HarmonicBalance& system = *balance;
     const BoundsOptions bo =
         WithSeeds(so.bounds, system.num_alpha(), nearest ? &nearest->bounds : nullptr);
-    RobustnessPoint pt;
-    pt.parameter = p;
-    if (so.track_peak) {
-      const ResonanceResult rr = FindResonance(system, so.search, bo);
-      pt.freq_hz = rr.freq_hz;
-      pt.bounds = rr.bounds;
-      pt.bound_solves = rr.bound_solves;
-    } else {
-      pt.freq_hz = so.reference_freq_hz;
-      pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
-      pt.bound_solves = 1;
-    }
-    pt.robustness = Robustness(pt.bounds);
+    const RobustnessPoint pt = ComputeRobustnessPoint(system, p, so, bo);
     res.inner_solves += 2 * pt.bound_solves;
     ++res.outer_iterations;
     res.history.push_back(pt);
