@@ -82,12 +82,16 @@ def main():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    def nan_for_null(values):  # a failed bound is null in the JSON: a gap in the curve, not 0
+        return [float("nan") if v is None else v for v in values]
+
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     for i, f in enumerate(freqs):
         key = f"{f:g}"
         fe, lu = study["fe"][key], study["lumped"][key]
-        ax.plot(gammas, fe["robustness"], "o-", color=f"C{i}", label=f"FE cascade, {key} Hz")
-        ax.plot(gammas, lu["robustness"], "s--", color=f"C{i}", mfc="none",
+        ax.plot(gammas, nan_for_null(fe["robustness"]), "o-", color=f"C{i}",
+                label=f"FE cascade, {key} Hz")
+        ax.plot(gammas, nan_for_null(lu["robustness"]), "s--", color=f"C{i}", mfc="none",
                 label=f"calibrated lumped, {key} Hz")
     ax.set_xlabel("preload asymmetry γ (damper 1 × (1 − γ), damper 2 × (1 + γ))")
     ax.set_ylabel("robustness R")
