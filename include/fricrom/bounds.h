@@ -147,4 +147,10 @@ struct BoundsResult {
 BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
                            const BoundsOptions& options);
 
+// Folds a second computation of the same frequency (other starts) into `into`: per bound the
+// better converged solution by `objective` (a failed one never replaces a converged one), the
+// counts and wall times summed, the spreads widened to cover both best values. Throws
+// std::invalid_argument when the frequencies differ.
+void MergeBounds(const BoundsResult& other, BoundsOptions::Objective objective, BoundsResult* into);
+
 }  // namespace fricrom

@@ -36,15 +36,21 @@ struct ResonanceResult {
 ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
                               const BoundsOptions& bounds);
 
-// Bound curve: the bounds at each frequency in order, each point warm-started with the previous
-// point's optimal α (added to its seeds), and the peak of the maximum-response bound.
+// Bound curve. Every frequency is an independent unit of work, so one thread, several threads,
+// MPI ranks and a resumed run give the same curve. The warm start has no order either, it runs in
+// two passes: pass 1 computes every point on its own; pass 2 re-optimises each point from the
+// optimal α its neighbours (i − 1, i + 1) reached in pass 1 (the optimum moves little between
+// neighbouring frequencies) and keeps, per bound, the better of its two passes.
 struct BoundCurveOptions {
   BoundsOptions bounds;
-  bool warm_start = true;
-  // (stage, done, total): stage "frequencies" after each point, and each point's own stages
-  // prefixed by its frequency ("1000 Hz: seeds", "1000 Hz: samples").
+  bool warm_start = true;  // pass 2
+  // Worker threads over the frequencies (0 = every core); more than one needs a BalanceMaker.
+  int threads = 1;
+  // (stage, done, total): stage "frequencies" after each pass-1 point and "neighbour starts"
+  // after each pass-2 point; with one thread also each point's own stages prefixed by its
+  // frequency ("1000 Hz: seeds", "1000 Hz: samples").
   std::function<void(const std::string& stage, int done, int total)> progress;
-  bool IsValid(std::string* error) const { return bounds.IsValid(error); }
+  bool IsValid(std::string* error) const;
 };
 struct BoundCurve {
   std::vector<BoundsResult> points;  // one per frequency, in the given order
@@ -56,8 +62,21 @@ struct BoundCurve {
 // `points` frequencies evenly spaced over [lo_hz, hi_hz] (both included; points >= 2).
 std::vector<double> EvenFrequencies(double lo_hz, double hi_hz, int points);
 // Throws std::invalid_argument on invalid options or a non-positive or non-finite frequency.
-BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
-                             const BoundCurveOptions& options);
+// make_balance builds the balance of each extra thread (see balance_pool.h).
+BoundCurve ComputeBoundCurve(
+    const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+    const BoundCurveOptions& options,
+    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance = {});
+
+// The two passes one point at a time, for callers that hand the points out themselves (MPI
+// ranks, journals). Pass 2 of point i: pass1[i] merged (MergeBounds) with the bounds from the
+// neighbours' optimal α that differ from pass1[i]'s own; pass1[i] unchanged, at no cost, when
+// they offer no new start.
+BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
+                                  const std::vector<BoundsResult>& pass1, int i,
+                                  const BoundsOptions& bounds);
+// The curve of finished points (peak located; wall_s left for the caller).
+BoundCurve AssembleBoundCurve(std::vector<BoundsResult> points);
 
 struct RobustnessPoint {
   double parameter = 0.0;

@@ -427,9 +427,10 @@ int Run(int argc, char** argv) {
     std::cerr << "fricrom: error: " << e.what() << "\nRun with --help for more information.\n";
     return 2;
   }
-  if (MpiSize() > 1 && !app.got_subcommand("sweep")) {
-    std::cerr << "fricrom: error: only `sweep` distributes its work over MPI ranks so far; run "
-                 "this command without mpirun (or with -np 1)\n";
+  if (MpiSize() > 1 && !app.got_subcommand("sweep") && !app.got_subcommand("bounds") &&
+      !app.got_subcommand("verify")) {
+    std::cerr << "fricrom: error: only `sweep`, `bounds` and `verify` distribute their work over "
+                 "MPI ranks so far; run this command without mpirun (or with -np 1)\n";
     return 2;
   }
   // One BLAS thread for the harmonic-balance commands (fricrom/blas_threads.h says why); the

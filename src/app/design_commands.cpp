@@ -15,11 +15,14 @@
 #include <random>
 #include <sstream>
 
+#include "app/bounds_record.h"
 #include "app/cli_common.h"
+#include "app/design_state.h"
 #include "app/mpi_units.h"
 #include "app/progress_line.h"
 #include "app/result_files.h"
 #include "app/unit_runs.h"
+#include "fricrom/balance_pool.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/design.h"
@@ -34,18 +37,14 @@
 #include "io/hdf5_file.h"
 
 namespace fricrom::app {
-namespace {
 
+using design_detail::Num;
+using design_detail::Plot;
+using design_detail::Seconds;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-double Seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-json Num(double v) { return NumberOrNull(v); }
-
-void Plot(const std::string& script, const std::vector<std::string>& args) {
+void design_detail::Plot(const std::string& script, const std::vector<std::string>& args) {
   std::string cmd =
       "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) + "/scripts/" + script + "'";
   for (const std::string& a : args) cmd += " '" + a + "'";
@@ -53,104 +52,6 @@ void Plot(const std::string& script, const std::vector<std::string>& args) {
   if (std::system(cmd.c_str()) != 0)
     std::cerr << "fricrom: figure not written by " << script << "\n";
 }
-
-}  // namespace
-
-struct DesignCommands::State {
-  CaseArgs bounds_case, sweep_case, noa_case, verify_case;
-  CLI::App* bounds = nullptr;
-  CLI::App* sweep = nullptr;
-  CLI::App* noa = nullptr;
-  CLI::App* verify = nullptr;
-  // shared options
-  std::string seeds, out, objective = "amplitude", method = "reduced";
-  int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
-  bool interface_seeds = false;
-  bool as_json = false, plot = false, quiet = false, track_peak = false;
-  double freq = 0.0, from = 0.0, to = 0.0;
-  int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
-  std::string param, noa_objective = "eta-gap";
-  bool no_sweep = false, resume = false;
-  int threads = 0;
-
-  BoundsOptions MakeBoundsOptions(const Case& c) const {
-    const int nc = c.model.num_alpha();
-    BoundsOptions o;
-    if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
-    if (interface_seeds) {
-      // Lumped cases have no interfaces: each contact is its own group.
-      o.seed_groups = c.alpha_interface;
-      if (static_cast<int>(o.seed_groups.size()) != nc) {
-        o.seed_groups.resize(nc);
-        std::iota(o.seed_groups.begin(), o.seed_groups.end(), 0);
-      }
-    }
-    o.random_seeds = random_seeds;
-    if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
-    if (!FromString(method, &o.method))
-      throw CLI::ValidationError("--method", "unknown: " + method);
-    o.check_samples = check_samples;
-    return o;
-  }
-  fs::path OutDir(const Case& c, const std::string& sub) const {
-    fs::path d = out.empty() ? fs::path("results") / c.name / sub : fs::path(out);
-    fs::create_directories(d);
-    return d;
-  }
-  // What a sweep journal must match to be resumed: the case (its content), every option that
-  // changes a result, and the values. (Files the case names are not hashed here: an FE body's
-  // reduction is cached by their content, but a changed matrix file under an unchanged case
-  // needs a fresh --out.)
-  json SweepJournalHeader(const std::vector<double>& values, const SweepOptions& so) const {
-    Hasher h;
-    HashFile(sweep_case.path, &h);
-    return {{"journal", "fricrom-sweep-1"},
-            {"version", Version()},
-            {"case", sweep_case.path},
-            {"case_content", h.Hex()},
-            {"sets", sweep_case.sets},
-            {"harmonics", sweep_case.harmonics},
-            {"samples", sweep_case.samples},
-            {"balance", sweep_case.balance},
-            {"receptance", sweep_case.receptance},
-            {"param", param},
-            {"values", values},
-            {"reference_freq_hz", so.reference_freq_hz},
-            {"track_peak", track_peak},
-            {"seeds", seeds},
-            {"objective", objective},
-            {"method", method},
-            {"check_samples", check_samples},
-            {"random_seeds", random_seeds},
-            {"interface_seeds", interface_seeds}};
-  }
-  // On stderr (JSON goes to stdout, so --json does not silence it); app/progress_line.h.
-  bool ShowProgress() const { return !quiet; }
-
-  // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
-  double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
-    if (freq > 0.0) return freq;
-    const auto balance = MakeCaseBalance(c);
-    const HarmonicBalance& system = *balance;
-    ResonanceSearchOptions rs;
-    rs.lo_hz = c.analysis.freq_min_hz;
-    rs.hi_hz = c.analysis.freq_max_hz;
-    rs.scan_points = 21;
-    const ResonanceResult r = FindResonance(system, rs, bo);
-    *solves += r.bound_solves;
-    if (!std::isfinite(r.freq_hz)) {
-      throw NotConverged("no maximum-response bound converged over " + std::to_string(rs.lo_hz) +
-                         "-" + std::to_string(rs.hi_hz) +
-                         " Hz: no resonance to evaluate R at (give --freq)");
-    }
-    return r.freq_hz;
-  }
-
-  int RunBounds();
-  int RunSweep();
-  int RunNoa();
-  int RunVerify();
-};
 
 DesignCommands::DesignCommands() : state_(std::make_unique<State>()) {}
 DesignCommands::~DesignCommands() = default;
@@ -188,6 +89,14 @@ void DesignCommands::Register(CLI::App& app) {
   s.bounds->add_option("--points", s.points, "Frequencies of the curve")
       ->check(CLI::Range(2, 100000));
   s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
+  s.bounds
+      ->add_option("--threads", s.threads,
+                   "Worker threads over the frequencies (0: every core; results do not depend "
+                   "on it)")
+      ->check(CLI::Range(0, 4096));
+  s.bounds->add_flag("--resume", s.resume,
+                     "Complete an interrupted run in the same --out (an error if there is none; "
+                     "rerunning the same command resumes as well)");
 
   s.sweep = app.add_subcommand("sweep", "Robustness R over a design parameter (manual sweep)");
   s.sweep_case.Register(s.sweep);
@@ -237,7 +146,8 @@ void DesignCommands::Register(CLI::App& app) {
       ->check(CLI::Range(0, 1000));
   s.verify
       ->add_option("--threads", s.threads,
-                   "Worker threads over the alpha samples (0: every core; same result for any)")
+                   "Worker threads over the bounds, alpha samples and time integrations (0: every "
+                   "core; same result for any)")
       ->check(CLI::Range(0, 4096));
 }
 
@@ -248,76 +158,6 @@ int DesignCommands::Run() {
   if (*s.noa) return s.RunNoa();
   if (*s.verify) return s.RunVerify();
   return -1;
-}
-
-// ------------------------------------------------------------------------------------- bounds
-int DesignCommands::State::RunBounds() {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Case c = bounds_case.Load();
-  const auto balance = MakeCaseBalance(c);
-  const HarmonicBalance& system = *balance;
-  const BoundsOptions base = MakeBoundsOptions(c);
-  std::string error;
-  if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
-  const std::vector<double> freqs =
-      freq > 0.0 ? std::vector<double>{freq}
-                 : EvenFrequencies(c.analysis.freq_min_hz, c.analysis.freq_max_hz, points);
-  Progress progress{ShowProgress(), "bounds"};
-  BoundCurveOptions co;
-  co.bounds = base;
-  if (progress.enabled) {
-    co.progress = [&progress](const std::string& stage, int done, int total) {
-      progress(stage, done, total);
-    };
-  }
-  const BoundCurve curve = ComputeBoundCurve(system, freqs, co);
-  progress.Done();
-  const std::vector<BoundsResult>& results = curve.points;
-  const bool have_peak = curve.HasPeak();
-  const int peak = have_peak ? curve.peak : 0;  // else the first point, whose values are NaN
-  const double wall = Seconds(t0);
-
-  const fs::path dir = OutDir(c, "bounds");
-  const fs::path h5p = dir / "bounds.h5", csvp = dir / "bounds.csv";
-  WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
-  if (plot) {
-    Plot("plot_bounds.py", {h5p.string(), (dir / "bounds.png").string(), "--normalise"});
-    // Time histories are readable for a few contacts; FE interfaces get the contact-state map.
-    if (c.model.contacts.size() <= 12)
-      Plot("plot_contacts.py", {h5p.string(), (dir / "contacts.png").string()});
-    if (HasContactMap(c))
-      Plot("plot_contact_map.py", {h5p.string(), (dir / "contact_map.png").string()});
-  }
-  bool ok = true;
-  for (const BoundsResult& b : results) ok = ok && b.IsUsable();
-  const BoundsResult& at = results[peak];
-  if (as_json) {
-    json j = BoundsJson(c.model, at);
-    if (freqs.size() > 1) {
-      j["peak_freq_hz"] = have_peak ? json(at.freq_hz) : json(nullptr);
-      json pts = json::array();
-      for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
-      j["points"] = pts;
-    }
-    j["wall_s"] = wall;
-    j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
-    std::cout << j.dump() << "\n";
-  } else if (!quiet) {
-    std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
-              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall
-              << " s\n";
-    std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
-              << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
-    if (at.min.regimes.size() <= 12) {  // the report above counts them for FE interfaces
-      std::cout << "  states at min:";
-      for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
-      std::cout << "\n  states at max:";
-      for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
-      std::cout << "\n";
-    }
-    std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
-  }
-  return ok ? 0 : 1;
 }
 
 // -------------------------------------------------------------------------------------- sweep
@@ -350,8 +190,13 @@ int DesignCommands::State::RunSweep() {
   Progress progress{ShowProgress(), "sweep " + param};
   double wall = 0.0;
   const SweepUnitsRun run = RunSweepUnits(
-      dir, SweepJournalHeader(values, so), resume, c0.model, values, so, factory, progress,
-      [&](const SweepUnitsRun& r) {
+      dir,
+      JournalHeader("sweep", sweep_case,
+                    {{"param", param},
+                     {"values", values},
+                     {"reference_freq_hz", so.reference_freq_hz},
+                     {"track_peak", track_peak}}),
+      resume, c0.model, values, so, factory, progress, [&](const SweepUnitsRun& r) {
         progress.Done();
         solves += 2 * r.columns.bound_solves;
         wall = Seconds(t0);
@@ -491,14 +336,10 @@ int DesignCommands::State::RunVerify() {
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
   const int nc = system.num_alpha();
-  const BoundsResult b = ComputeBounds(system, freq, MakeBoundsOptions(c));
-  if (!b.IsUsable()) {
-    std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";
-    return 1;
-  }
-  const double lo = b.min.amplitude, hi = b.max.amplitude, tol = 1e-6;
-  // a) α sampling: the corners of the box first, then uniform random (fixed seed), drawn before
-  // any is solved, so that sample i is the same α for any number of threads.
+  const BoundsOptions bo = MakeBoundsOptions(c);
+  // Every α is drawn before anything is solved, so that unit k is the same computation on any
+  // number of threads or ranks: a) sampling, the corners of the box first, then uniform random
+  // (fixed seed); b) time integrations from α = 0, the two alternating corners, then random.
   std::mt19937 rng(20241);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Eigen::VectorXd> alphas(samples, Eigen::VectorXd(nc));
@@ -507,15 +348,53 @@ int DesignCommands::State::RunVerify() {
       alphas[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
     }
   }
-  const std::vector<double> amplitude = SolveAlphaSamples(
-      system, [&] { return MakeCaseBalance(c); }, alphas, freq, threads);  // NaN: not converged
+  std::vector<Eigen::VectorXd> ti_alphas(ti_runs, Eigen::VectorXd(nc));
+  for (int i = 0; i < ti_runs; ++i) {
+    for (int k = 0; k < nc; ++k)
+      ti_alphas[i][k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
+  }
+  // Units: 0 the bounds, then the α samples, then the time integrations (threads or MPI ranks).
+  BalancePool pool(system, [&] { return MakeCaseBalance(c); });
+  const auto unit = [&](int k) -> std::string {
+    if (k == 0) return BoundsRecord(ComputeBounds(pool.Borrow().get(), freq, bo)).dump();
+    if (k <= samples) {
+      const BalancePool::Lease lease = pool.Borrow();
+      const FrfPoint p =
+          SolveAtFrequency(lease.get(), alphas[k - 1], freq, Eigen::VectorXd(), FrfOptions{});
+      return Num(p.status == SolverStatus::kConverged ? p.amplitude : NAN).dump();
+    }
+    TimeIntegrationOptions to;
+    to.freq_hz = freq;
+    const TimeIntegrationResult r = IntegrateToSteadyState(c.model, ti_alphas[k - 1 - samples], to);
+    return json{{"status", ToString(r.status)},
+                {"message", r.message},
+                {"amplitude", Num(r.amplitude)},
+                {"periods", r.periods},
+                {"states", RegimeNames(r.regimes)}}
+        .dump();
+  };
+  Progress progress{ShowProgress(), "verify"};
+  // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
+  const std::vector<std::string> texts =
+      RunTextUnits(1 + samples + ti_runs, bo.method == BoundsOptions::kReducedSpace ? threads : 1,
+                   unit, progress);
+  progress.Done();
+  if (MpiRank() != 0) return 0;
+  const BoundsResult b = BoundsFromRecord(json::parse(texts[0]));
+  if (!b.IsUsable()) {
+    std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";
+    return 1;
+  }
+  const double lo = b.min.amplitude, hi = b.max.amplitude, tol = 1e-6;
   int failed = 0, outside = 0, inside = 0;
   double smin = NAN, smax = NAN;
-  for (double y : amplitude) {
-    if (std::isnan(y)) {
+  for (int i = 1; i <= samples; ++i) {
+    const json y_json = json::parse(texts[i]);
+    if (y_json.is_null()) {
       ++failed;
       continue;
     }
+    const double y = y_json.get<double>();
     smin = std::isnan(smin) ? y : std::min(smin, y);
     smax = std::isnan(smax) ? y : std::max(smax, y);
     if (y < lo * (1 - tol) || y > hi * (1 + tol))
@@ -523,26 +402,18 @@ int DesignCommands::State::RunVerify() {
     else
       ++inside;
   }
-  // b) time integration from different initial static states.
   json runs = json::array();
   int ti_outside = 0;
   for (int i = 0; i < ti_runs; ++i) {
-    Eigen::VectorXd a(nc);
-    for (int k = 0; k < nc; ++k)
-      a[k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
-    TimeIntegrationOptions to;
-    to.freq_hz = freq;
-    const TimeIntegrationResult r = IntegrateToSteadyState(c.model, a, to);
+    json r = json::parse(texts[1 + samples + i]);
+    const double y = r["amplitude"].is_null() ? NAN : r["amplitude"].get<double>();
     // Harmonic truncation (H) separates the two routes by up to ~1e-3 here; 2 % margin.
-    const bool in = r.amplitude >= lo * 0.98 && r.amplitude <= hi * 1.02;
-    if (r.status == TimeIntegrationResult::Status::kSteadyState && !in) ++ti_outside;
-    runs.push_back({{"initial_alpha", ToStd(a)},
-                    {"status", ToString(r.status)},
-                    {"message", r.message},
-                    {"amplitude", Num(r.amplitude)},
-                    {"periods", r.periods},
-                    {"inside", in},
-                    {"states", RegimeNames(r.regimes)}});
+    const bool in = y >= lo * 0.98 && y <= hi * 1.02;
+    const bool steady = r["status"] == ToString(TimeIntegrationResult::Status::kSteadyState);
+    if (steady && !in) ++ti_outside;
+    r["initial_alpha"] = ToStd(ti_alphas[i]);
+    r["inside"] = in;
+    runs.push_back(r);
   }
   int ti_unsteady = 0;
   for (const json& r : runs)

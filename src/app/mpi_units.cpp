@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -107,6 +108,18 @@ int MpiSize() {
 double BroadcastFromRoot(double v) {
   if (g_active) MPI_Bcast(&v, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   return v;
+}
+
+std::string BroadcastText(const std::string& text) {
+  if (!g_active) return text;
+  unsigned long long n = text.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  if (n > static_cast<unsigned long long>(std::numeric_limits<int>::max())) {
+    throw std::runtime_error("BroadcastText: text longer than 2 GiB");
+  }
+  std::string out = CommRank() == 0 ? text : std::string(static_cast<size_t>(n), '\0');
+  MPI_Bcast(out.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return out;
 }
 
 void DistributeUnits(const std::vector<int>& pending,

@@ -25,6 +25,8 @@ int MpiSize();  // 1 without MPI
 
 // Rank 0's value of `v` on every rank (v unchanged without MPI).
 double BroadcastFromRoot(double v);
+// Rank 0's `text` on every rank (collective: every rank calls it; text unchanged without MPI).
+std::string BroadcastText(const std::string& text);
 
 // Computes the `pending` units (indices) on every rank with dynamic load balancing: each rank
 // asks rank 0 for the next unit when it is free; rank 0 computes units as well (on a second

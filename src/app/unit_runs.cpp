@@ -1,12 +1,11 @@
 #include "app/unit_runs.h"
 
 #include <cmath>
-#include <mutex>
 #include <numeric>
 
+#include "app/bounds_record.h"
 #include "app/mpi_units.h"
 #include "app/run_journal.h"
-#include "fricrom/frf.h"
 #include "fricrom/work_queue.h"
 
 namespace fricrom::app {
@@ -61,40 +60,98 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
   return run;
 }
 
-std::vector<double> SolveAlphaSamples(
-    const HarmonicBalance& system,
-    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance,
-    const std::vector<Eigen::VectorXd>& alphas, double freq_hz, int threads) {
-  const int n = static_cast<int>(alphas.size());
-  std::vector<double> amplitude(n, NAN);
-  // Free balances; a null entry stands for `system` (lent to one worker at a time).
-  std::mutex lock;
-  std::vector<std::unique_ptr<HarmonicBalance>> pool;
-  pool.push_back(nullptr);
+CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::json& header,
+                            bool resume, const HarmonicBalance& system,
+                            const BalanceMaker& make_balance, const std::vector<double>& freqs,
+                            const BoundCurveOptions& options,
+                            const std::function<void(const CurveUnitsRun&)>& write_files) {
+  CurveUnitsRun run;
+  const int n = static_cast<int>(freqs.size());
+  const bool ranks = MpiSize() > 1;
+  const bool two_passes = options.warm_start && n > 1;
+  BalancePool pool(system, make_balance);
+  std::vector<BoundsResult> pass1(n);  // read back from records on every rank before pass 2
+  const std::function<std::string(int)> first = [&](int i) {
+    const BalancePool::Lease lease = pool.Borrow();
+    return BoundsRecord(ComputeBounds(lease.get(), freqs[i], options.bounds)).dump();
+  };
+  const std::function<std::string(int)> second = [&](int i) {
+    const BalancePool::Lease lease = pool.Borrow();
+    return BoundsRecord(RefineFromNeighbours(lease.get(), pass1, i, options.bounds)).dump();
+  };
+  if (ranks && MpiRank() != 0) {  // a worker rank: units in, records out
+    DistributeUnits({}, first, {});
+    if (two_passes) {
+      const nlohmann::json all = nlohmann::json::parse(BroadcastText(""));
+      for (int i = 0; i < n; ++i) pass1[i] = BoundsFromRecord(all.at(i));
+      DistributeUnits({}, second, {});
+    }
+    run.worker = true;
+    return run;
+  }
+  RunJournal journal(dir, "bounds", header, resume);
+  const auto run_pass = [&](int offset, const std::function<std::string(int)>& unit,
+                            const std::string& stage) {
+    std::vector<int> pending;
+    for (int i = 0; i < n; ++i) {
+      if (journal.finished().count(offset + i) == 0) pending.push_back(i);
+    }
+    int done = n - static_cast<int>(pending.size());
+    run.resumed += done;
+    const auto record = [&](int i, const std::string& text) {
+      journal.Record(offset + i, nlohmann::json::parse(text));
+      ++run.computed;
+      if (options.progress) options.progress(stage, ++done, n);
+    };
+    if (ranks) {
+      DistributeUnits(pending, unit, record);
+    } else {
+      std::vector<std::string> texts(n);
+      RunWorkUnits(
+          pending, WorkerThreads(options.threads, n), [&](int i) { texts[i] = unit(i); },
+          [&](int i) { record(i, texts[i]); });
+    }
+    std::vector<BoundsResult> out(n);
+    for (int i = 0; i < n; ++i) out[i] = BoundsFromRecord(journal.finished().at(offset + i));
+    return out;
+  };
+  pass1 = run_pass(0, first, "frequencies");
+  if (two_passes) {
+    if (ranks) {
+      nlohmann::json all = nlohmann::json::array();
+      for (int i = 0; i < n; ++i) all.push_back(journal.finished().at(i));
+      BroadcastText(all.dump());
+    }
+    run.points = run_pass(n, second, "neighbour starts");
+  } else {
+    run.points = pass1;
+  }
+  write_files(run);
+  journal.Complete();
+  return run;
+}
+
+std::vector<std::string> RunTextUnits(int n, int threads,
+                                      const std::function<std::string(int)>& unit,
+                                      const DesignProgress& progress) {
   std::vector<int> all(n);
   std::iota(all.begin(), all.end(), 0);
+  std::vector<std::string> texts(n);
+  int done = 0;
+  if (MpiSize() > 1) {
+    DistributeUnits(all, unit, [&](int i, const std::string& text) {
+      texts[i] = text;
+      if (progress) progress(++done, n);
+    });
+    if (MpiRank() != 0) texts.clear();
+    return texts;
+  }
   RunWorkUnits(
-      all, threads,
-      [&](int i) {
-        std::unique_ptr<HarmonicBalance> own;
-        bool lent = false;
-        {
-          const std::lock_guard<std::mutex> g(lock);
-          if (!pool.empty()) {
-            own = std::move(pool.back());
-            pool.pop_back();
-            lent = own == nullptr;
-          }
-        }
-        if (!own && !lent) own = make_balance();
-        const FrfPoint p = SolveAtFrequency(lent ? system : *own, alphas[i], freq_hz,
-                                            Eigen::VectorXd(), FrfOptions{});
-        if (p.status == SolverStatus::kConverged) amplitude[i] = p.amplitude;
-        const std::lock_guard<std::mutex> g(lock);
-        pool.push_back(std::move(own));
-      },
-      [](int) {});
-  return amplitude;
+      all, WorkerThreads(threads, n), [&](int i) { texts[i] = unit(i); },
+      [&](int) {
+        if (progress) progress(++done, n);
+      });
+  return texts;
 }
 
 }  // namespace fricrom::app

@@ -1,5 +1,6 @@
-// The units of work of the CLI commands, run on threads or MPI ranks: the values of a sweep (with
-// the journal that makes them resumable) and the alpha samples of verify.
+// The units of work of the CLI commands, run on threads or MPI ranks: the values of a sweep and the
+// frequencies of a bound curve (with the journals that make them resumable), and the units of
+// verify (bounds, alpha samples, time integrations).
 #pragma once
 
 #include <Eigen/Dense>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "app/result_files.h"
+#include "fricrom/balance_pool.h"
 #include "fricrom/case_file.h"
 #include "fricrom/design.h"
 
@@ -31,12 +33,30 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
                             const DesignProgress& progress,
                             const std::function<void(const SweepUnitsRun&)>& write_files);
 
-// Amplitude of the harmonic-balance solution at every α (NaN where it did not converge), solved
-// on `threads` threads; each thread builds its own balance with make_balance (a balance caches
-// per-frequency data), the first one uses `system`.
-std::vector<double> SolveAlphaSamples(
-    const HarmonicBalance& system,
-    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance,
-    const std::vector<Eigen::VectorXd>& alphas, double freq_hz, int threads);
+struct CurveUnitsRun {
+  std::vector<BoundsResult> points;  // every frequency, in order, after both passes
+  int computed = 0;                  // units (point passes) computed by this run
+  int resumed = 0;                   // units read back from the journal of an earlier run
+  bool worker = false;               // an MPI rank other than 0
+};
+
+// The bound curve's frequencies as units of work, in the two passes of ComputeBoundCurve
+// (design.h; unit i is pass 1 of point i, unit n + i its pass 2): on the calling rank's threads
+// (options.threads, extra balances from make_balance) or over MPI ranks when there are several.
+// Rank 0 journals each finished unit in `dir` (name "bounds"), calls write_files with the points
+// while it holds the folder's lock, and then drops the journal. Every result goes through its
+// journal record, so a resumed or distributed run gives the serial run's curve bit for bit.
+CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::json& header,
+                            bool resume, const HarmonicBalance& system,
+                            const BalanceMaker& make_balance, const std::vector<double>& freqs,
+                            const BoundCurveOptions& options,
+                            const std::function<void(const CurveUnitsRun&)>& write_files);
+
+// Units 0..n-1 of any command as text results: on `threads` threads of this rank, or over MPI
+// ranks when there are several (then each rank computes one unit at a time). Rank 0 gets every
+// unit's text, in unit order; the other ranks an empty vector. progress(done, n) on rank 0.
+std::vector<std::string> RunTextUnits(int n, int threads,
+                                      const std::function<std::string(int)>& unit,
+                                      const DesignProgress& progress);
 
 }  // namespace fricrom::app

@@ -373,4 +373,46 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   return result;
 }
 
+void MergeBounds(const BoundsResult& other, BoundsOptions::Objective objective,
+                 BoundsResult* into) {
+  if (other.freq_hz != into->freq_hz) {
+    throw std::invalid_argument("MergeBounds: the two results are at different frequencies");
+  }
+  const bool amp = objective == BoundsOptions::kAmplitude;
+  const auto widen = [&](const BoundSolution& a, const BoundSolution& b, double* spread) {
+    // Each side keeps only its best value and spread, so the merged spread is the largest
+    // difference these show (a lower estimate of the spread over every run of both).
+    if (!a.IsUsable() || !b.IsUsable()) return;
+    const double va = amp ? a.amplitude : a.loss_factor;
+    const double vb = amp ? b.amplitude : b.loss_factor;
+    *spread = std::max(*spread, std::abs(va - vb));
+  };
+  for (int dir = 0; dir < 2; ++dir) {
+    const bool maximise_response = dir == 1;
+    BoundSolution& best = maximise_response ? into->max : into->min;
+    const BoundSolution& cand = maximise_response ? other.max : other.min;
+    double* spread = maximise_response ? &into->spread_max : &into->spread_min;
+    const double other_spread = maximise_response ? other.spread_max : other.spread_min;
+    if (std::isfinite(other_spread)) {
+      *spread = std::isfinite(*spread) ? std::max(*spread, other_spread) : other_spread;
+    }
+    widen(best, cand, spread);
+    if (!cand.IsUsable()) continue;
+    const double sign = maximise_response ? 1.0 : -1.0;  // larger is better after the sign
+    if (!best.IsUsable() || sign * RankValue(cand, objective) > sign * RankValue(best, objective)) {
+      best = cand;
+    }
+  }
+  into->seeds_tried += other.seeds_tried;
+  into->seeds_converged += other.seeds_converged;
+  into->start_failures += other.start_failures;
+  into->min_failures += other.min_failures;
+  into->max_failures += other.max_failures;
+  into->optimizer_runs += other.optimizer_runs;
+  into->samples_checked += other.samples_checked;
+  into->samples_failed += other.samples_failed;
+  into->improved_by_samples += other.improved_by_samples;
+  into->wall_s += other.wall_s;
+}
+
 }  // namespace fricrom

@@ -1,5 +1,5 @@
-// Bound curves over frequency: the bounds point by point with warm-started α seeds, and the
-// resonance of the maximum-response bound.
+// Bound curves over frequency: the bounds point by point (independent units of work, on threads),
+// the order-free warm start from the neighbours' optima, and the resonance of the maximum bound.
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "fricrom/balance_pool.h"
 #include "fricrom/design.h"
+#include "fricrom/work_queue.h"
 
 namespace fricrom {
 
@@ -20,8 +22,73 @@ std::vector<double> EvenFrequencies(double lo_hz, double hi_hz, int points) {
   return f;
 }
 
-BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
-                             const BoundCurveOptions& options) {
+bool BoundCurveOptions::IsValid(std::string* error) const {
+  if (threads < 0) {
+    *error =
+        "BoundCurveOptions.threads must be >= 0 (0: every core), got " + std::to_string(threads);
+    return false;
+  }
+  return bounds.IsValid(error);
+}
+
+namespace {
+
+// True when `a` is already among the starts (the point's own optima) or not usable.
+bool AlreadyTried(const BoundSolution& a, const BoundsResult& own) {
+  if (!a.IsUsable()) return true;
+  for (const BoundSolution* b : {&own.min, &own.max}) {
+    if (b->IsUsable() && b->alpha.size() == a.alpha.size() && b->alpha == a.alpha) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
+                                  const std::vector<BoundsResult>& pass1, int i,
+                                  const BoundsOptions& bounds) {
+  const int n = static_cast<int>(pass1.size());
+  if (i < 0 || i >= n) throw std::invalid_argument("RefineFromNeighbours: no such point");
+  const BoundsResult& own = pass1[i];
+  BoundsOptions bo = bounds;
+  bo.alpha_seeds.clear();
+  for (int j : {i - 1, i + 1}) {
+    if (j < 0 || j >= n) continue;
+    for (const BoundSolution* s : {&pass1[j].min, &pass1[j].max}) {
+      if (AlreadyTried(*s, own)) continue;
+      bool dup = false;
+      for (const Eigen::VectorXd& a : bo.alpha_seeds) dup = dup || a == s->alpha;
+      if (!dup) bo.alpha_seeds.push_back(s->alpha);
+    }
+  }
+  BoundsResult out = own;
+  if (bo.alpha_seeds.empty()) return out;
+  // Only the neighbours' optima: pass 1 already ran the seed set and the sample check.
+  bo.seed_groups.clear();
+  bo.random_seeds = 0;
+  bo.check_samples = 0;
+  bo.progress = nullptr;
+  MergeBounds(ComputeBounds(system, own.freq_hz, bo), bo.objective, &out);
+  return out;
+}
+
+BoundCurve AssembleBoundCurve(std::vector<BoundsResult> points) {
+  BoundCurve curve;
+  curve.points = std::move(points);
+  for (int i = 0; i < static_cast<int>(curve.points.size()); ++i) {
+    const BoundsResult& b = curve.points[i];
+    if (b.max.IsUsable() &&
+        (curve.peak < 0 || b.max.amplitude > curve.points[curve.peak].max.amplitude)) {
+      curve.peak = i;
+    }
+  }
+  return curve;
+}
+
+BoundCurve ComputeBoundCurve(
+    const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+    const BoundCurveOptions& options,
+    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   for (double f : freqs_hz) {
@@ -30,35 +97,46 @@ BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<do
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
-  BoundCurve curve;
-  const int total = static_cast<int>(freqs_hz.size());
-  for (int i = 0; i < total; ++i) {
-    BoundsOptions bo = options.bounds;
-    // The previous point's optima are usually the closest starts (the optimal α moves little
-    // between neighbouring frequencies).
-    if (options.warm_start && i > 0) {
-      const BoundsResult& prev = curve.points.back();
-      if (bo.alpha_seeds.empty()) bo.alpha_seeds = DefaultAlphaSeeds(system.num_alpha());
-      if (prev.min.IsUsable()) bo.alpha_seeds.push_back(prev.min.alpha);
-      if (prev.max.IsUsable()) bo.alpha_seeds.push_back(prev.max.alpha);
-    }
-    if (options.progress) {
-      std::ostringstream label;
-      label << freqs_hz[i] << " Hz: ";
-      const auto outer = options.progress;
-      const std::string prefix = label.str();
-      bo.progress = [outer, prefix](const std::string& stage, int done, int n) {
-        outer(prefix + stage, done, n);
-      };
-    }
-    curve.points.push_back(ComputeBounds(system, freqs_hz[i], bo));
-    const BoundsResult& b = curve.points.back();
-    if (b.max.IsUsable() &&
-        (curve.peak < 0 || b.max.amplitude > curve.points[curve.peak].max.amplitude)) {
-      curve.peak = i;
-    }
-    if (options.progress) options.progress("frequencies", i + 1, total);
+  const int n = static_cast<int>(freqs_hz.size());
+  const int threads = WorkerThreads(options.threads, n);
+  BalancePool pool(system, make_balance);
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  const auto& progress = options.progress;
+  std::vector<BoundsResult> pass1(n);
+  int done = 0;
+  RunWorkUnits(
+      all, threads,
+      [&](int i) {
+        BoundsOptions bo = options.bounds;
+        if (progress && threads == 1) {  // a point's own stages only when they come in order
+          std::ostringstream label;
+          label << freqs_hz[i] << " Hz: ";
+          const std::string prefix = label.str();
+          bo.progress = [&progress, prefix](const std::string& stage, int d, int t) {
+            progress(prefix + stage, d, t);
+          };
+        }
+        const BalancePool::Lease lease = pool.Borrow();
+        pass1[i] = ComputeBounds(lease.get(), freqs_hz[i], bo);
+      },
+      [&](int) {
+        if (progress) progress("frequencies", ++done, n);
+      });
+  std::vector<BoundsResult> points = pass1;
+  if (options.warm_start && n > 1) {
+    done = 0;
+    RunWorkUnits(
+        all, threads,
+        [&](int i) {
+          const BalancePool::Lease lease = pool.Borrow();
+          points[i] = RefineFromNeighbours(lease.get(), pass1, i, options.bounds);
+        },
+        [&](int) {
+          if (progress) progress("neighbour starts", ++done, n);
+        });
   }
+  BoundCurve curve = AssembleBoundCurve(std::move(points));
   curve.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return curve;
 }

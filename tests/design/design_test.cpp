@@ -131,36 +131,41 @@ TEST(Design, NoConvergedMaximumMeansNoResonance) {
   EXPECT_EQ(r.bound_solves, 3);  // the scan only: no refinement around a non-existent peak
 }
 
-// A bound curve is its points' bounds: the first point (no warm seeds) equals a single bound
-// computation, every later point is at least as wide as one without warm seeds (the seeds are a
-// superset), the peak is the largest converged y_max, and progress counts the frequencies.
-TEST(Design, BoundCurveIsItsPointsWithWarmSeedsAndItsPeak) {
+// A bound curve is its points' bounds: without the warm start each point equals a single bound
+// computation; with it every point is at least as wide (pass 2 only adds starts), the peak is the
+// largest converged y_max, and progress counts both passes.
+TEST(Design, BoundCurveIsItsPointsWithNeighbourStartsAndItsPeak) {
   HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
   const std::vector<double> freqs = EvenFrequencies(262.0, 270.0, 3);
   ASSERT_EQ(freqs.size(), 3u);
   EXPECT_DOUBLE_EQ(freqs[1], 266.0);
   BoundCurveOptions o;
   o.bounds.check_samples = 0;
-  std::vector<int> done;
-  o.progress = [&done](const std::string& stage, int d, int total) {
-    if (stage == "frequencies") {
+  std::vector<int> done, refined;
+  o.progress = [&](const std::string& stage, int d, int total) {
+    if (stage == "frequencies" || stage == "neighbour starts") {
       EXPECT_EQ(total, 3);
-      done.push_back(d);
+      (stage == "frequencies" ? done : refined).push_back(d);
     } else {
       EXPECT_NE(stage.find(" Hz: seeds"), std::string::npos) << stage;
     }
   };
   const BoundCurve curve = ComputeBoundCurve(sys, freqs, o);
   EXPECT_EQ(done, (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(refined, (std::vector<int>{1, 2, 3}));
   ASSERT_EQ(curve.points.size(), 3u);
-  const BoundsResult first = ComputeBounds(sys, freqs[0], o.bounds);
-  EXPECT_EQ(curve.points[0].min.amplitude, first.min.amplitude);
-  EXPECT_EQ(curve.points[0].max.amplitude, first.max.amplitude);
-  for (int i = 1; i < 3; ++i) {
+  BoundCurveOptions cold_options = o;
+  cold_options.warm_start = false;
+  cold_options.progress = nullptr;
+  const BoundCurve cold_curve = ComputeBoundCurve(sys, freqs, cold_options);
+  for (int i = 0; i < 3; ++i) {
     const BoundsResult cold = ComputeBounds(sys, freqs[i], o.bounds);
+    EXPECT_EQ(cold_curve.points[i].min.amplitude, cold.min.amplitude);
+    EXPECT_EQ(cold_curve.points[i].max.amplitude, cold.max.amplitude);
     ASSERT_TRUE(curve.points[i].IsUsable());
-    EXPECT_LE(curve.points[i].min.amplitude, cold.min.amplitude * (1 + 1e-9));
-    EXPECT_GE(curve.points[i].max.amplitude, cold.max.amplitude * (1 - 1e-9));
+    EXPECT_LE(curve.points[i].min.amplitude, cold.min.amplitude);
+    EXPECT_GE(curve.points[i].max.amplitude, cold.max.amplitude);
+    EXPECT_GE(curve.points[i].seeds_tried, cold.seeds_tried);
     EXPECT_GT(curve.points[i].wall_s, 0.0);  // every point carries its cost
     EXPECT_LE(curve.points[i].wall_s, curve.wall_s);
   }
@@ -170,8 +175,68 @@ TEST(Design, BoundCurveIsItsPointsWithWarmSeedsAndItsPeak) {
   }
   EXPECT_NE(curve.BriefReport().find("peak of y_max"), std::string::npos);
   EXPECT_THROW(ComputeBoundCurve(sys, {266.0, -1.0}, o), std::invalid_argument);
+  BoundCurveOptions bad = o;
+  bad.threads = -1;
+  EXPECT_THROW(ComputeBoundCurve(sys, freqs, bad), std::invalid_argument);
   EXPECT_THROW(EvenFrequencies(270.0, 262.0, 3), std::invalid_argument);
   EXPECT_THROW(EvenFrequencies(262.0, 270.0, 1), std::invalid_argument);
+}
+
+// The curve has no order: on two threads (each with its own balance) it is bit for bit the curve
+// of one thread, and a point's second pass depends only on its neighbours' first-pass results.
+TEST(Design, BoundCurveIsTheSameOnTwoThreadsAndPointByPoint) {
+  const Model model = testing::LoadBaseline().model;
+  HbmSystem sys(model, HbmOptions{1, 128});
+  const std::vector<double> freqs = EvenFrequencies(255.0, 275.0, 6);
+  BoundCurveOptions o;
+  o.bounds.check_samples = 4;
+  const BoundCurve one = ComputeBoundCurve(sys, freqs, o);
+  o.threads = 2;
+  int made = 0;
+  const BoundCurve two = ComputeBoundCurve(sys, freqs, o, [&] {
+    ++made;
+    return std::make_unique<HbmSystem>(model, HbmOptions{1, 128});
+  });
+  EXPECT_LE(made, 1);  // one balance per extra thread at most
+  BoundsOptions bo = o.bounds;
+  std::vector<BoundsResult> pass1;
+  for (double f : freqs) pass1.push_back(ComputeBounds(sys, f, bo));
+  int refined = 0;
+  for (int i = 0; i < 6; ++i) {
+    const BoundsResult by_hand = RefineFromNeighbours(sys, pass1, i, bo);
+    refined += by_hand.seeds_tried > pass1[i].seeds_tried;
+    for (const BoundCurve* c : {&one, &two}) {
+      EXPECT_EQ(c->points[i].min.amplitude, by_hand.min.amplitude) << i;
+      EXPECT_EQ(c->points[i].max.amplitude, by_hand.max.amplitude) << i;
+      EXPECT_EQ(c->points[i].min.alpha, by_hand.min.alpha) << i;
+      EXPECT_EQ(c->points[i].seeds_tried, by_hand.seeds_tried) << i;
+    }
+  }
+  EXPECT_GT(refined, 0);  // some neighbour optimum was a new start, so pass 2 ran
+  EXPECT_EQ(one.peak, two.peak);
+  EXPECT_THROW(RefineFromNeighbours(sys, pass1, 6, bo), std::invalid_argument);
+}
+
+// Merging keeps the better converged bound per side and never lets a failure replace one.
+TEST(Design, MergeBoundsKeepsTheBetterConvergedSide) {
+  BoundsResult a, b;
+  a.freq_hz = b.freq_hz = 266.0;
+  a.min.status = a.max.status = BoundStatus::kConverged;
+  a.min.amplitude = 2.0;
+  a.max.amplitude = 5.0;
+  a.seeds_tried = 3;
+  b.min.status = BoundStatus::kConverged;
+  b.min.amplitude = 1.5;
+  b.max.status = BoundStatus::kFailed;  // NaN amplitude
+  b.seeds_tried = 2;
+  MergeBounds(b, BoundsOptions::kAmplitude, &a);
+  EXPECT_EQ(a.min.amplitude, 1.5);
+  EXPECT_EQ(a.max.amplitude, 5.0);
+  EXPECT_TRUE(a.max.IsUsable());
+  EXPECT_EQ(a.seeds_tried, 5);
+  EXPECT_DOUBLE_EQ(a.spread_min, 0.5);
+  b.freq_hz = 267.0;
+  EXPECT_THROW(MergeBounds(b, BoundsOptions::kAmplitude, &a), std::invalid_argument);
 }
 
 }  // namespace

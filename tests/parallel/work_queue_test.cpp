@@ -64,6 +64,9 @@ TEST(WorkQueue, FirstExceptionStopsTheHandOutAndIsRethrown) {
                      [&](int i) {
                        ++started;
                        if (i == 3) throw std::runtime_error("unit 3 failed");
+                       // Units take time, as real ones do: without it a second thread may finish
+                       // all 100 before the failing one has reported (seen under load).
+                       std::this_thread::sleep_for(std::chrono::milliseconds(1));
                      },
                      [](int) {}),
                  std::runtime_error);

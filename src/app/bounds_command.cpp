@@ -1,0 +1,114 @@
+// `fricrom bounds`: the response bounds at one frequency or over a curve, its files and report.
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/design_state.h"
+#include "app/mpi_units.h"
+#include "app/progress_line.h"
+#include "app/result_files.h"
+#include "app/unit_runs.h"
+#include "fricrom/balance.h"
+#include "fricrom/work_queue.h"
+
+namespace fricrom::app {
+
+using design_detail::Plot;
+using design_detail::Seconds;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+// ------------------------------------------------------------------------------------- bounds
+int DesignCommands::State::RunBounds() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Case c = bounds_case.Load();
+  const auto balance = MakeCaseBalance(c);
+  const HarmonicBalance& system = *balance;
+  const BoundsOptions base = MakeBoundsOptions(c);
+  std::string error;
+  if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
+  const std::vector<double> freqs =
+      freq > 0.0 ? std::vector<double>{freq}
+                 : EvenFrequencies(c.analysis.freq_min_hz, c.analysis.freq_max_hz, points);
+  Progress progress{ShowProgress(), "bounds"};
+  BoundCurveOptions co;
+  co.bounds = base;
+  // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
+  co.threads = base.method == BoundsOptions::kReducedSpace ? threads : 1;
+  if (progress.enabled) {
+    co.progress = [&progress](const std::string& stage, int done, int total) {
+      progress(stage, done, total);
+    };
+  }
+  // Units of work are the frequencies' two passes (threads or MPI ranks); rank 0 journals and
+  // writes the files as a set while it holds the folder's lock.
+  const fs::path dir = MpiRank() == 0 ? OutDir(c, "bounds") : fs::path();
+  const fs::path h5p = dir / "bounds.h5", csvp = dir / "bounds.csv";
+  BoundCurve curve;
+  double wall = 0.0;
+  const CurveUnitsRun run = RunCurveUnits(
+      dir,
+      JournalHeader("bounds", bounds_case, {{"freqs_hz", freqs}, {"warm_start", co.warm_start}}),
+      resume, system, [&] { return MakeCaseBalance(c); }, freqs, co,
+      [&](const CurveUnitsRun& r) {
+        progress.Done();
+        curve = AssembleBoundCurve(r.points);
+        wall = curve.wall_s = Seconds(t0);
+        WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
+        WriteManifest(dir, "bounds", {h5p, csvp});
+      });
+  if (run.worker) return 0;
+  const std::vector<BoundsResult>& results = curve.points;
+  const bool have_peak = curve.HasPeak();
+  const int peak = have_peak ? curve.peak : 0;  // else the first point, whose values are NaN
+  if (plot) {
+    Plot("plot_bounds.py", {h5p.string(), (dir / "bounds.png").string(), "--normalise"});
+    // Time histories are readable for a few contacts; FE interfaces get the contact-state map.
+    if (c.model.contacts.size() <= 12)
+      Plot("plot_contacts.py", {h5p.string(), (dir / "contacts.png").string()});
+    if (HasContactMap(c))
+      Plot("plot_contact_map.py", {h5p.string(), (dir / "contact_map.png").string()});
+  }
+  bool ok = true;
+  for (const BoundsResult& b : results) ok = ok && b.IsUsable();
+  const BoundsResult& at = results[peak];
+  if (as_json) {
+    json j = BoundsJson(c.model, at);
+    if (freqs.size() > 1) {
+      j["peak_freq_hz"] = have_peak ? json(at.freq_hz) : json(nullptr);
+      json pts = json::array();
+      for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
+      j["points"] = pts;
+    }
+    const int units = static_cast<int>(freqs.size()) * (co.warm_start && freqs.size() > 1 ? 2 : 1);
+    j["units"] = {{"total", units},
+                  {"computed", run.computed},
+                  {"resumed", run.resumed},
+                  {"threads", MpiSize() > 1 ? 1 : WorkerThreads(co.threads, int(freqs.size()))},
+                  {"ranks", MpiSize()}};
+    j["wall_s"] = wall;
+    j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
+    std::cout << j.dump() << "\n";
+  } else if (!quiet) {
+    if (run.resumed > 0)
+      std::cout << "Resumed: " << run.resumed << " point passes from the journal\n";
+    std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
+              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall
+              << " s\n";
+    std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
+              << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
+    if (at.min.regimes.size() <= 12) {  // the report above counts them for FE interfaces
+      std::cout << "  states at min:";
+      for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
+      std::cout << "\n  states at max:";
+      for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
+      std::cout << "\n";
+    }
+    std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+  }
+  return ok ? 0 : 1;
+}
+
+}  // namespace fricrom::app

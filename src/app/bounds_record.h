@@ -1,0 +1,15 @@
+// A bound computation as JSON that reads back bit for bit (doubles in shortest round-trip form,
+// NaN as null): the unit result that bound-curve journals record and MPI ranks send to rank 0.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "fricrom/bounds.h"
+
+namespace fricrom::app {
+
+nlohmann::json BoundsRecord(const BoundsResult& b);
+// Throws std::runtime_error naming the missing or mistyped key.
+BoundsResult BoundsFromRecord(const nlohmann::json& j);
+
+}  // namespace fricrom::app

@@ -1,0 +1,130 @@
+// The state of the design commands (bounds, sweep, noa, verify): their options and the helpers
+// they share. Private to the app: design_commands.cpp registers and runs them, bounds_command.cpp
+// holds `bounds`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "app/cli_common.h"
+#include "app/design_commands.h"
+#include "app/result_files.h"
+#include "fricrom/bounds.h"
+#include "fricrom/design.h"
+#include "io/content_hash.h"
+
+namespace fricrom::app {
+namespace design_detail {
+
+inline double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+inline nlohmann::json Num(double v) { return NumberOrNull(v); }
+// Runs scripts/<script> with the system Python; figures go to stderr's side, never stdout.
+void Plot(const std::string& script, const std::vector<std::string>& args);
+
+}  // namespace design_detail
+
+struct DesignCommands::State {
+  using json = nlohmann::json;
+  CaseArgs bounds_case, sweep_case, noa_case, verify_case;
+  CLI::App* bounds = nullptr;
+  CLI::App* sweep = nullptr;
+  CLI::App* noa = nullptr;
+  CLI::App* verify = nullptr;
+  // shared options
+  std::string seeds, out, objective = "amplitude", method = "reduced";
+  int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
+  bool interface_seeds = false;
+  bool as_json = false, plot = false, quiet = false, track_peak = false;
+  double freq = 0.0, from = 0.0, to = 0.0;
+  int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
+  std::string param, noa_objective = "eta-gap";
+  bool no_sweep = false, resume = false;
+  int threads = 0;
+
+  BoundsOptions MakeBoundsOptions(const Case& c) const {
+    const int nc = c.model.num_alpha();
+    BoundsOptions o;
+    if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
+    if (interface_seeds) {
+      // Lumped cases have no interfaces: each contact is its own group.
+      o.seed_groups = c.alpha_interface;
+      if (static_cast<int>(o.seed_groups.size()) != nc) {
+        o.seed_groups.resize(nc);
+        std::iota(o.seed_groups.begin(), o.seed_groups.end(), 0);
+      }
+    }
+    o.random_seeds = random_seeds;
+    if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
+    if (!FromString(method, &o.method))
+      throw CLI::ValidationError("--method", "unknown: " + method);
+    o.check_samples = check_samples;
+    return o;
+  }
+  std::filesystem::path OutDir(const Case& c, const std::string& sub) const {
+    std::filesystem::path d =
+        out.empty() ? std::filesystem::path("results") / c.name / sub : std::filesystem::path(out);
+    std::filesystem::create_directories(d);
+    return d;
+  }
+  // What a journal must match to be resumed: the case (its content), every option that changes a
+  // result, and the command's own keys in `extra` (values, frequencies). (Files the case names are
+  // not hashed here: an FE body's reduction is cached by their content, but a changed matrix
+  // file under an unchanged case needs a fresh --out.)
+  json JournalHeader(const std::string& kind, const CaseArgs& ca, const json& extra) const {
+    Hasher h;
+    HashFile(ca.path, &h);
+    json j = {{"journal", "fricrom-" + kind + "-1"},
+              {"version", Version()},
+              {"case", ca.path},
+              {"case_content", h.Hex()},
+              {"sets", ca.sets},
+              {"harmonics", ca.harmonics},
+              {"samples", ca.samples},
+              {"balance", ca.balance},
+              {"receptance", ca.receptance},
+              {"seeds", seeds},
+              {"objective", objective},
+              {"method", method},
+              {"check_samples", check_samples},
+              {"random_seeds", random_seeds},
+              {"interface_seeds", interface_seeds}};
+    j.update(extra);
+    return j;
+  }
+  // On stderr (JSON goes to stdout, so --json does not silence it); app/progress_line.h.
+  bool ShowProgress() const { return !quiet; }
+
+  // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
+  double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
+    if (freq > 0.0) return freq;
+    const auto balance = MakeCaseBalance(c);
+    const HarmonicBalance& system = *balance;
+    ResonanceSearchOptions rs;
+    rs.lo_hz = c.analysis.freq_min_hz;
+    rs.hi_hz = c.analysis.freq_max_hz;
+    rs.scan_points = 21;
+    const ResonanceResult r = FindResonance(system, rs, bo);
+    *solves += r.bound_solves;
+    if (!std::isfinite(r.freq_hz)) {
+      throw NotConverged("no maximum-response bound converged over " + std::to_string(rs.lo_hz) +
+                         "-" + std::to_string(rs.hi_hz) +
+                         " Hz: no resonance to evaluate R at (give --freq)");
+    }
+    return r.freq_hz;
+  }
+
+  int RunBounds();
+  int RunSweep();
+  int RunNoa();
+  int RunVerify();
+};
+
+}  // namespace fricrom::app

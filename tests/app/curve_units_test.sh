@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# ctest: a bound curve is the same on 1 thread, 2 threads and 2 MPI ranks (bounds.h5 to 1e-12,
+# bounds.csv byte for byte); killed with SIGKILL at a random moment and rerun with --resume it
+# writes the uninterrupted run's files, computes no point pass twice and leaves no temporary
+# file. verify on 2 MPI ranks reports what it reports serially.
+set -euo pipefail
+fricrom="${1:?usage: curve_units_test.sh FRICROM REPO_ROOT}"
+root="${2:?usage: curve_units_test.sh FRICROM REPO_ROOT}"
+py=/usr/bin/python3
+tmp="$(mktemp -d)"
+trap 'kill -9 $(jobs -p) 2>/dev/null || true; rm -rf "$tmp"' EXIT
+fail() { echo "curve_units_test: $*" >&2; exit 1; }
+# 40 frequencies over the lumped case's range, 1000 check samples each: 80 point passes, about 4 s on
+# one thread here
+curve=(bounds "$root/meshes/lumped3/baseline.toml" --method reduced --points 40 --check-samples 1000
+       --random-seeds 8 --json --quiet)
+
+"$fricrom" "${curve[@]}" --threads 1 --out "$tmp/ref" > "$tmp/ref.json"
+"$fricrom" "${curve[@]}" --threads 2 --out "$tmp/two" > "$tmp/two.json"
+
+compare() {  # compare DIR_A DIR_B: every dataset of bounds.h5 to 1e-12, bounds.csv byte for byte
+  "$py" - "$1/bounds.h5" "$2/bounds.h5" <<'PY' || fail "$1/bounds.h5 and $2/bounds.h5 differ"
+import sys, h5py, numpy as np
+a, b = h5py.File(sys.argv[1], "r"), h5py.File(sys.argv[2], "r")
+names = []
+a.visit(lambda n: names.append(n) if isinstance(a[n], h5py.Dataset) else None)
+assert names, "no datasets"
+for k in names:
+    if "wall" in k:
+        continue  # timings differ between runs
+    x, y = a[k][()], b[k][()]
+    if getattr(x, "dtype", None) is not None and x.dtype.kind == "f":
+        assert np.array_equal(np.isnan(x), np.isnan(y)), k
+        assert np.allclose(x, y, rtol=1e-12, atol=1e-300, equal_nan=True), (k, np.nanmax(np.abs(x - y)))
+    else:
+        assert np.array_equal(x, y), k
+PY
+  cmp -s "$1/bounds.csv" "$2/bounds.csv" || fail "$1/bounds.csv and $2/bounds.csv differ"
+}
+compare "$tmp/ref" "$tmp/two"
+"$py" - "$tmp/ref.json" <<'PY' || fail "the serial curve's unit counts are wrong"
+import json, sys
+j = json.load(open(sys.argv[1]))
+u = j["units"]
+assert u["total"] == 80 and u["computed"] == 80 and u["resumed"] == 0, u
+assert len(j["points"]) == 40 and j["status_min"] == "converged", j.keys()
+PY
+
+# Two MPI ranks: pass 1 handed out, its records broadcast, pass 2 handed out; rank 0 writes.
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${curve[@]}" --out "$tmp/mpi" \
+  > "$tmp/mpi.json" || fail "mpirun -np 2 bounds failed"
+"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == 80, u' \
+  "$tmp/mpi.json" || fail "the MPI run did not use 2 ranks"
+compare "$tmp/ref" "$tmp/mpi"
+
+# Kill at a random moment after the journal appears, then resume on 2 threads.
+"$fricrom" "${curve[@]}" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 100); do [ -f "$tmp/k/bounds.journal" ] && break; sleep 0.05; done
+sleep "$("$py" -c 'import random; print(round(random.uniform(0.0, 3.0), 2))')"
+kill -9 "$pid" 2>/dev/null || true
+wait "$pid" 2>/dev/null || true
+recorded=$("$py" - "$tmp/k/bounds.journal" <<'PY'
+import json, os, sys
+n = 0
+if os.path.exists(sys.argv[1]):
+    for line in open(sys.argv[1]).read().split("\n")[1:]:
+        try:
+            n += "unit" in json.loads(line)
+        except ValueError:
+            pass
+print(n)
+PY
+)
+"$fricrom" "${curve[@]}" --threads 2 --out "$tmp/k" --resume > "$tmp/k.json" \
+  || fail "the resumed run failed"
+"$py" - "$tmp/k.json" "$recorded" <<'PY' || fail "unit counts of the resumed run are wrong"
+import json, sys
+u = json.load(open(sys.argv[1]))["units"]
+recorded = int(sys.argv[2])
+print(f"curve_units_test: killed after {recorded} of {u['total']} point passes; resumed {u['resumed']}, computed {u['computed']}")
+assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == 80, u
+PY
+compare "$tmp/ref" "$tmp/k"
+ls -a "$tmp/k" | grep -q "tmp-" && fail "temporary files left in the output folder"
+[ -f "$tmp/k/bounds.journal" ] && fail "the journal of a finished run is still there"
+"$py" - "$tmp/k" <<'PY' || fail "bounds.manifest.json does not describe the files"
+import json, os, sys
+m = json.load(open(os.path.join(sys.argv[1], "bounds.manifest.json")))
+names = sorted(f["file"] for f in m["files"])
+assert names == ["bounds.csv", "bounds.h5"], names
+PY
+
+# verify: bounds, alpha samples and time integrations as units; 2 ranks = serial.
+v=(verify "$root/meshes/lumped3/baseline.toml" --freq 266 --alpha-samples 24 --time-runs 2 --json --quiet)
+"$fricrom" "${v[@]}" --threads 1 --out "$tmp/v1" > "$tmp/v1.json" || fail "verify failed"
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${v[@]}" --out "$tmp/v2" \
+  > "$tmp/v2.json" || fail "mpirun -np 2 verify failed"
+"$py" - "$tmp/v1.json" "$tmp/v2.json" <<'PY' || fail "verify: serial and 2 ranks differ"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+for k in ("y_min", "y_max", "sampling", "time_integration", "certified"):
+    assert a[k] == b[k], k
+assert a["sampling"]["converged"] == 24 and len(a["time_integration"]) == 2, a
+PY
+echo "curve_units_test: passed"
