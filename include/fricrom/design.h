@@ -130,8 +130,15 @@ struct NoaOptions {
   int scan_points = 9;
   double parameter_tolerance = 2e-3;
   SweepOptions inner;  // frequency choice and inner bound options (reference_freq_hz required)
+  // The scan's values are independent units of work (cold starts, like a sweep's), evaluated by
+  // this function when set (the CLI hands them to MPI ranks), else by SweepRobustness on
+  // inner.threads threads. It must return one point per value, in order. The refinement after
+  // the scan runs in order, each evaluation warm-started from the nearest evaluated value.
+  std::function<std::vector<RobustnessPoint>(const std::vector<double>& values)> scan_evaluator;
   bool IsValid(std::string* error) const;
 };
+// The values of the NOA's global scan: scan_points values evenly over [lower, upper].
+std::vector<double> NoaScanValues(const NoaOptions& options);
 
 struct NoaResult {
   double p_opt = 0.0;

@@ -29,9 +29,14 @@ int DesignCommands::State::RunBounds() {
   const BoundsOptions base = MakeBoundsOptions(c);
   std::string error;
   if (!base.IsValid(&error)) throw CLI::ValidationError("--seeds", error);
+  if (!range.empty() && !(range[1] > range[0])) {
+    throw CLI::ValidationError("--range", "needs LO < HI, got " + std::to_string(range[0]) + " " +
+                                              std::to_string(range[1]));
+  }
+  const double lo = range.empty() ? c.analysis.freq_min_hz : range[0];
+  const double hi = range.empty() ? c.analysis.freq_max_hz : range[1];
   const std::vector<double> freqs =
-      freq > 0.0 ? std::vector<double>{freq}
-                 : EvenFrequencies(c.analysis.freq_min_hz, c.analysis.freq_max_hz, points);
+      freq > 0.0 ? std::vector<double>{freq} : EvenFrequencies(lo, hi, points);
   Progress progress{ShowProgress(), "bounds"};
   BoundCurveOptions co;
   co.bounds = base;

@@ -150,4 +150,22 @@ BoundsResult BoundsFromRecord(const json& j) {
   return b;
 }
 
+json RobustnessRecord(const RobustnessPoint& p) {
+  return {{"parameter", p.parameter},
+          {"freq_hz", Real(p.freq_hz)},
+          {"robustness", Real(p.robustness)},
+          {"bound_solves", p.bound_solves},
+          {"bounds", BoundsRecord(p.bounds)}};
+}
+
+RobustnessPoint RobustnessFromRecord(const json& j) {
+  RobustnessPoint p;
+  p.parameter = ReadReal(j, "parameter");
+  p.freq_hz = ReadReal(j, "freq_hz");
+  p.robustness = ReadReal(j, "robustness");
+  p.bound_solves = ReadInt(j, "bound_solves");
+  p.bounds = BoundsFromRecord(Key(j, "bounds"));
+  return p;
+}
+
 }  // namespace fricrom::app

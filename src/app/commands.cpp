@@ -428,9 +428,9 @@ int Run(int argc, char** argv) {
     return 2;
   }
   if (MpiSize() > 1 && !app.got_subcommand("sweep") && !app.got_subcommand("bounds") &&
-      !app.got_subcommand("verify")) {
-    std::cerr << "fricrom: error: only `sweep`, `bounds` and `verify` distribute their work over "
-                 "MPI ranks so far; run this command without mpirun (or with -np 1)\n";
+      !app.got_subcommand("verify") && !app.got_subcommand("noa")) {
+    std::cerr << "fricrom: error: only `sweep`, `bounds`, `verify` and `noa` distribute their "
+                 "work over MPI ranks; run this command without mpirun (or with -np 1)\n";
     return 2;
   }
   // One BLAS thread for the harmonic-balance commands (fricrom/blas_threads.h says why); the

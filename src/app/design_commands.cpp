@@ -86,6 +86,11 @@ void DesignCommands::Register(CLI::App& app) {
   s.bounds
       ->add_option("--freq", s.freq, "Single frequency [Hz] (default: a curve over the case range)")
       ->check(Positive());
+  s.bounds
+      ->add_option("--range", s.range,
+                   "Frequency range of the curve LO HI [Hz] (default: the case's analysis range)")
+      ->expected(2)
+      ->check(Positive());
   s.bounds->add_option("--points", s.points, "Frequencies of the curve")
       ->check(CLI::Range(2, 100000));
   s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
@@ -134,6 +139,11 @@ void DesignCommands::Register(CLI::App& app) {
   s.noa->add_option("--sweep-steps", s.sweep_steps, "Steps of the manual sweep run for comparison")
       ->check(CLI::Range(2, 100000));
   s.noa->add_flag("--no-sweep", s.no_sweep, "Skip the manual-sweep cost comparison");
+  s.noa
+      ->add_option("--threads", s.threads,
+                   "Worker threads over the scan's values and the comparison sweep's (0: every "
+                   "core; same result for any)")
+      ->check(CLI::Range(0, 4096));
 
   s.verify =
       app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
@@ -267,21 +277,53 @@ int DesignCommands::State::RunNoa() {
   no.objective =
       noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
   no.inner.bounds = bo;
-  no.inner.reference_freq_hz = ReferenceFrequency(c0, bo, &ref_solves);
+  // Under MPI, rank 0 locates the reference (possibly a peak search) and shares it.
+  const double f = MpiRank() == 0 ? ReferenceFrequency(c0, bo, &ref_solves) : 0.0;
+  no.inner.reference_freq_hz = BroadcastFromRoot(f);
+  // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
+  no.inner.threads = bo.method == BoundsOptions::kReducedSpace ? threads : 1;
   const BalanceFactory factory = [&](double p) {
     return MakeCaseBalance(noa_case.Load({{param, p}}));
   };
+  // The scan's values and the comparison sweep's are independent units (threads or MPI ranks);
+  // the refinement in between runs in order on rank 0.
+  std::vector<double> sweep_values;
+  for (int i = 0; i < sweep_steps; ++i)
+    sweep_values.push_back(from + (to - from) * i / (sweep_steps - 1));
+  SweepOptions one = no.inner;
+  one.threads = 1;
+  const auto unit_of = [&](const std::vector<double>& values) {
+    return std::function<std::string(int)>([&, values](int i) {
+      return RobustnessRecord(SweepRobustness(factory, {values[i]}, one).front()).dump();
+    });
+  };
+  const bool ranks = MpiSize() > 1;
+  if (ranks && MpiRank() != 0) {
+    DistributeUnits({}, unit_of(NoaScanValues(no)), {});
+    if (!no_sweep) DistributeUnits({}, unit_of(sweep_values), {});
+    return 0;
+  }
   Progress progress{ShowProgress(), "noa " + param};
+  const auto on_ranks = [&](const std::vector<double>& values) {
+    std::vector<RobustnessPoint> pts(values.size());
+    std::vector<int> all(values.size());
+    std::iota(all.begin(), all.end(), 0);
+    int done = 0;
+    DistributeUnits(all, unit_of(values), [&](int i, const std::string& text) {
+      pts[i] = RobustnessFromRecord(json::parse(text));
+      progress(++done, static_cast<int>(values.size()));
+    });
+    return pts;
+  };
+  if (ranks) no.scan_evaluator = on_ranks;
   const NoaResult res = fricrom::RunNoa(factory, no, progress);
   progress.Done();
   const double wall = Seconds(t0);
   json sweep_json = nullptr;
   if (!no_sweep) {
     const auto ts = std::chrono::steady_clock::now();
-    std::vector<double> values;
-    for (int i = 0; i < sweep_steps; ++i)
-      values.push_back(from + (to - from) * i / (sweep_steps - 1));
-    const std::vector<RobustnessPoint> pts = SweepRobustness(factory, values, no.inner);
+    const std::vector<RobustnessPoint> pts =
+        ranks ? on_ranks(sweep_values) : SweepRobustness(factory, sweep_values, no.inner);
     int best = 0, solves = 0;
     for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
       solves += 2 * pts[i].bound_solves;
@@ -315,6 +357,9 @@ int DesignCommands::State::RunNoa() {
   j["history"] = hist;
   j["manual_sweep"] = sweep_json;
   j["total_wall_s"] = wall;
+  j["units"] = {{"scan", no.scan_points},
+                {"threads", ranks ? 1 : WorkerThreads(no.inner.threads, no.scan_points)},
+                {"ranks", MpiSize()}};
   WriteTextAtomically(dir / "noa.json", j.dump(2) + "\n");
   if (as_json) {
     std::cout << j.dump() << "\n";

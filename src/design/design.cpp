@@ -192,6 +192,13 @@ std::string NoaResult::BriefReport() const {
   return s.str();
 }
 
+std::vector<double> NoaScanValues(const NoaOptions& options) {
+  const int n = options.scan_points;
+  std::vector<double> p(n);
+  for (int i = 0; i < n; ++i) p[i] = options.lower + (options.upper - options.lower) * i / (n - 1);
+  return p;
+}
+
 NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
                  const DesignProgress& progress) {
   std::string error;
@@ -224,12 +231,28 @@ NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
     return objective_of(res.history.back());
   };
 
-  // 1) Global scan.
+  // 1) Global scan: independent values, on threads or through the caller's evaluator.
   const int n = options.scan_points;
-  std::vector<double> p(n), g(n);
-  for (int i = 0; i < n; ++i) {
-    p[i] = options.lower + (options.upper - options.lower) * i / (n - 1);
-    g[i] = evaluate(p[i]);
+  const std::vector<double> p = NoaScanValues(options);
+  std::vector<double> g(n);
+  {
+    SweepOptions cold = options.inner;
+    cold.warm_start = false;
+    const std::vector<RobustnessPoint> scan =
+        options.scan_evaluator ? options.scan_evaluator(p)
+                               : SweepRobustness(factory, p, cold, [&](int done, int) {
+                                   if (progress) progress(done, -1);
+                                 });
+    if (static_cast<int>(scan.size()) != n) {
+      throw std::logic_error("RunNoa: the scan evaluator returned " + std::to_string(scan.size()) +
+                             " points for " + std::to_string(n) + " values");
+    }
+    for (int i = 0; i < n; ++i) {
+      res.history.push_back(scan[i]);
+      res.inner_solves += 2 * scan[i].bound_solves;
+      ++res.outer_iterations;
+      g[i] = objective_of(scan[i]);
+    }
   }
   const double gmin = *std::min_element(g.begin(), g.end());
   if (!std::isfinite(gmin)) {

@@ -2,7 +2,7 @@
 # ctest: a bound curve is the same on 1 thread, 2 threads and 2 MPI ranks (bounds.h5 to 1e-12,
 # bounds.csv byte for byte); killed with SIGKILL at a random moment and rerun with --resume it
 # writes the uninterrupted run's files, computes no point pass twice and leaves no temporary
-# file. verify on 2 MPI ranks reports what it reports serially.
+# file. verify and noa on 2 MPI ranks report what they report serially.
 set -euo pipefail
 fricrom="${1:?usage: curve_units_test.sh FRICROM REPO_ROOT}"
 root="${2:?usage: curve_units_test.sh FRICROM REPO_ROOT}"
@@ -103,5 +103,20 @@ a, b = (json.load(open(f)) for f in sys.argv[1:3])
 for k in ("y_min", "y_max", "sampling", "time_integration", "certified"):
     assert a[k] == b[k], k
 assert a["sampling"]["converged"] == 24 and len(a["time_integration"]) == 2, a
+PY
+# noa: the scan's values (and the comparison sweep's) on 2 ranks, the refinement on rank 0 = serial.
+n=(noa "$root/meshes/lumped3/baseline.toml" --method reduced --param beta --from 0 --to 0.2 --freq 266
+   --sweep-steps 6 --json --quiet)
+"$fricrom" "${n[@]}" --threads 1 --out "$tmp/n1" > "$tmp/n1.json" || fail "noa failed"
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${n[@]}" --out "$tmp/n2" \
+  > "$tmp/n2.json" || fail "mpirun -np 2 noa failed"
+"$py" - "$tmp/n1.json" "$tmp/n2.json" <<'PY' || fail "noa: serial and 2 ranks differ"
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+for k in ("p_opt", "R_opt", "history", "outer_iterations", "inner_solves"):
+    assert a[k] == b[k], k
+for k in ("p_best", "R_best", "inner_solves"):
+    assert a["manual_sweep"][k] == b["manual_sweep"][k], k
+assert b["units"]["ranks"] == 2 and a["converged"], (a["units"], b["units"])
 PY
 echo "curve_units_test: passed"

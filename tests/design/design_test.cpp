@@ -84,6 +84,44 @@ TEST(Design, NoaBeatsThePaperOnThePreloadAsymmetry) {
   EXPECT_GT(res.p_opt, 0.354);
 }
 
+// The scan is independent units: on two threads, or through a caller's evaluator that computes
+// the values in reverse order, the NOA takes the same path to the same optimum.
+TEST(Design, NoaScanIsTheSameOnThreadsAndThroughAnEvaluator) {
+  NoaOptions no;
+  no.lower = 0.0;
+  no.upper = 0.2;
+  no.scan_points = 5;
+  no.parameter_tolerance = 0.01;
+  no.inner = Inner();
+  const NoaResult one = RunNoa(Factory("beta"), no);
+  no.inner.threads = 2;
+  const NoaResult two = RunNoa(Factory("beta"), no);
+  no.inner.threads = 1;
+  int calls = 0;
+  no.scan_evaluator = [&](const std::vector<double>& values) {
+    ++calls;
+    std::vector<RobustnessPoint> pts(values.size());
+    for (int i = static_cast<int>(values.size()) - 1; i >= 0; --i) {
+      pts[i] = SweepRobustness(Factory("beta"), {values[i]}, Inner()).front();
+    }
+    return pts;
+  };
+  const NoaResult custom = RunNoa(Factory("beta"), no);
+  EXPECT_EQ(calls, 1);
+  for (const NoaResult* r : {&two, &custom}) {
+    EXPECT_EQ(r->p_opt, one.p_opt);
+    EXPECT_EQ(r->robustness, one.robustness);
+    EXPECT_EQ(r->outer_iterations, one.outer_iterations);
+    ASSERT_EQ(r->history.size(), one.history.size());
+    for (size_t i = 0; i < one.history.size(); ++i) {
+      EXPECT_EQ(r->history[i].parameter, one.history[i].parameter);
+      EXPECT_EQ(r->history[i].robustness, one.history[i].robustness);
+    }
+  }
+  no.scan_evaluator = [](const std::vector<double>&) { return std::vector<RobustnessPoint>(2); };
+  EXPECT_THROW(RunNoa(Factory("beta"), no), std::logic_error);
+}
+
 TEST(Design, InvalidOptionsThrow) {
   NoaOptions no;
   no.lower = 1.0;
