@@ -12,6 +12,7 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace fricrom::app {
@@ -78,10 +79,23 @@ void Work(const std::function<std::string(int)>& compute) {
   }
 }
 
+// All ranks on this node (OpenMPI tells before MPI_Init): its ob1 messaging layer over shared
+// memory starts in a third of the time its default UCX layer takes (0.10 s vs 0.33 s for two ranks
+// here), and our messages are a few bytes per unit. A setting of the user's always wins.
+void PreferSharedMemoryOnOneNode() {
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const char* all = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (local != nullptr && all != nullptr && std::string(local) == all &&
+      std::getenv("OMPI_MCA_pml") == nullptr) {
+    setenv("OMPI_MCA_pml", "ob1", 0);
+  }
+}
+
 }  // namespace
 
 MpiSession::MpiSession(int* argc, char*** argv) {
   if (!LaunchedByMpi()) return;
+  PreferSharedMemoryOnOneNode();
   int provided = 0;
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   g_active = true;
