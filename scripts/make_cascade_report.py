@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """The FE cascade part of the main job's results: the reduced FE cascade beside its lumped
-calibration at one frequency (modes, bounds, R, wall time), as markdown.
+calibration (modes, bound curve, R, R over gamma, the NOA, wall times), as markdown.
 
 Usage:
     /usr/bin/python3 scripts/make_cascade_report.py --dir results/cascade3 --out results/cascade3/report.md
 
 Reads from --dir: fe_modes.json, fe_bounds.json, lump.json, lumped_modes.json,
-lumped_bounds.json (outputs of `fricrom modes|bounds|lump --json`) and timings.json
-({step: seconds}). Exit status 0, or 2 on a missing or malformed file.
+lumped_bounds.json (outputs of `fricrom modes|bounds|lump --json`; the bounds are curves or single
+frequencies), fe_noa.json (`fricrom noa --json`, optional), gamma_study/gamma_study.json
+(scripts/gamma_study.py, optional) and timings.json ({step: seconds}). Exit status 0, or 2 on a
+missing or malformed file.
 """
 
 import json
@@ -28,6 +30,46 @@ def num(x, fmt="{:.4e}"):
     return "n/a" if x is None else fmt.format(x)
 
 
+def curve_section(fb, lb):
+    """The bound curves point by point, FE beside lumped (when both are curves)."""
+    fp, lpts = fb.get("points"), lb.get("points")
+    if not fp or not lpts or len(fp) != len(lpts):
+        return []
+    out = ["", "## Bound curve", "",
+           "![bound curves, FE and lumped](figures/bounds_fe_vs_lumped.png)", "",
+           "| f [Hz] | FE y_min [m] | FE y_max [m] | FE R | FE point wall [s] | lumped y_min [m] "
+           "| lumped y_max [m] | lumped R |", "|---|---|---|---|---|---|---|---|"]
+    for a, b in zip(fp, lpts):
+        out.append(f"| {a['freq_hz']:g} | {num(a['y_min'])} | {num(a['y_max'])} | "
+                   f"{num(a['R'], '{:.4f}')} | {a['point_wall_s']:.1f} | {num(b['y_min'])} | "
+                   f"{num(b['y_max'])} | {num(b['R'], '{:.4f}')} |")
+    return out
+
+
+def design_section(d):
+    """R over gamma (both models) and the FE NOA, when the main job ran them."""
+    out = []
+    gpath = os.path.join(d, "gamma_study", "gamma_study.json")
+    if os.path.exists(gpath):
+        g = load(os.path.join(d, "gamma_study"), "gamma_study.json")
+        for f, fe in g["fe"].items():
+            lu = g["lumped"][f]
+            out += ["", f"## R over gamma at {f} Hz", "", "![R over gamma](figures/r_gamma.png)", "",
+                    "| gamma | FE R | lumped R |", "|---|---|---|"]
+            out += [f"| {x:.4g} | {num(a, '{:.4f}')} | {num(b, '{:.4f}')} |"
+                    for x, a, b in zip(g["gamma"], fe["robustness"], lu["robustness"])]
+            out += ["", f"Wall time: FE sweep {fe['wall_s']:.1f} s, lumped {lu['wall_s']:.2f} s."]
+    npath = os.path.join(d, "fe_noa.json")
+    if os.path.exists(npath):
+        n = load(d, "fe_noa.json")
+        out += ["", f"## NOA over gamma on the FE cascade at {n['reference_freq_hz']:g} Hz", "",
+                f"Objective {n['objective']}: p_opt = {n['p_opt']:.4g}, R = {num(n['R_opt'], '{:.4f}')}, "
+                f"{n['outer_iterations']} outer evaluations, {n['inner_solves']} inner bound solves, "
+                f"{n['wall_s']:.1f} s on {n['units']['threads']} threads"
+                + (f" ({n['message']})" if n.get("message") else "") + "."]
+    return out
+
+
 def main():
     args = dict(zip(sys.argv[1::2], sys.argv[2::2]))
     if "--dir" not in args or "--out" not in args:
@@ -44,11 +86,12 @@ def main():
          ", ".join(f"{f:.2f}" for f in lm["free_hz"][:3])),
         ("full-stick modes, first family [Hz]", ", ".join(f"{f:.2f}" for f in fm["stick_hz"][:3]),
          ", ".join(f"{f:.2f}" for f in lm["stick_hz"][:3])),
-        (f"bounds at {fb['freq_hz']:g} Hz: y_min [m]", num(fb["y_min"]), num(lb["y_min"])),
+        (f"bounds at {fb['freq_hz']:g} Hz{' (peak of the curve)' if 'points' in fb else ''}: y_min [m]",
+         num(fb["y_min"]), num(lb["y_min"])),
         ("y_max [m]", num(fb["y_max"]), num(lb["y_max"])),
         ("R", num(fb["R"], "{:.4f}"), num(lb["R"], "{:.4f}")),
         ("status", fb["status"], lb["status"]),
-        ("wall time of the bounds [s]", f"{t.get('fe_bounds', float('nan')):.1f}",
+        ("wall time of the bounds [s]" if "points" not in fb else "wall time of the bound curve [s]", f"{t.get('fe_bounds', float('nan')):.1f}",
          f"{t.get('lumped_bounds', float('nan')):.2f}"),
     ]
     out = ["# FE cascade: reduced FE model and its lumped calibration", "",
@@ -66,6 +109,8 @@ def main():
         for c in lp["contacts"]) + ".", "",
         "![contact-state map at the bounds](figures/contact_map.png)", "",
         "Step wall times [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in sorted(t.items())) + "."]
+    out += curve_section(fb, lb)
+    out += design_section(d)
     tmp = args["--out"] + ".tmp"
     with open(tmp, "w") as f:
         f.write("\n".join(out) + "\n")

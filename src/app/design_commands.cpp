@@ -138,6 +138,8 @@ void DesignCommands::Register(CLI::App& app) {
       ->check(CLI::IsMember({"eta-gap", "one-minus-r"}));
   s.noa->add_option("--sweep-steps", s.sweep_steps, "Steps of the manual sweep run for comparison")
       ->check(CLI::Range(2, 100000));
+  s.noa->add_option("--scan-points", s.scan_points, "Values of the global scan (default 9)")
+      ->check(CLI::Range(3, 100000));
   s.noa->add_flag("--no-sweep", s.no_sweep, "Skip the manual-sweep cost comparison");
   s.noa
       ->add_option("--threads", s.threads,
@@ -276,6 +278,7 @@ int DesignCommands::State::RunNoa() {
   no.upper = to;
   no.objective =
       noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
+  no.scan_points = scan_points;
   no.inner.bounds = bo;
   // Under MPI, rank 0 locates the reference (possibly a peak search) and shares it.
   const double f = MpiRank() == 0 ? ReferenceFrequency(c0, bo, &ref_solves) : 0.0;

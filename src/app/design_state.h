@@ -46,6 +46,7 @@ struct DesignCommands::State {
   double freq = 0.0, from = 0.0, to = 0.0;
   std::vector<double> range;  // bounds --range LO HI [Hz]; empty: the case's range
   int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
+  int scan_points = NoaOptions{}.scan_points;
   std::string param, noa_objective = "eta-gap";
   bool no_sweep = false, resume = false;
   int threads = 0;

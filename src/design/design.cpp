@@ -279,7 +279,9 @@ NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
   if (best_len >= 2) {
     const double lo = p[best_start], hi = p[best_start + best_len - 1];
     p_best = 0.5 * (lo + hi);
-    g_best = evaluate(p_best);
+    // A middle that is a scan value (an odd run) is known already.
+    const auto known = std::find(p.begin(), p.end(), p_best);
+    g_best = known != p.end() ? g[known - p.begin()] : evaluate(p_best);
     if (!(g_best <= gmin + tie)) {  // not a true plateau: keep the best scanned point
       p_best = p[best_start];
       g_best = g[best_start];
