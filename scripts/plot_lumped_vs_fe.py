@@ -53,7 +53,7 @@ def work():
     ax.set_ylabel("response amplitude [m]")
     ax.set_title("Bounds of the blade-2 response: reduced FE cascade vs lumped calibration")
     ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     common.save_figure(fig, out)
     return f"wrote {out}"

@@ -153,11 +153,17 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
     h5.Attribute("bounds", "robustness_at_peak",
                  curve.HasPeak() ? curve.points[curve.peak].robustness() : NAN);
     h5.Attribute("bounds", "wall_s", curve.wall_s);
-    std::vector<double> lf;
-    for (int i = 0; i < 400; ++i) {
-      lf.push_back(c.analysis.freq_min_hz +
-                   (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / 399.0);
+    // The linear references span the curve (bounds --range), or the case's range for one point.
+    double lo = c.analysis.freq_min_hz, hi = c.analysis.freq_max_hz;
+    if (curve.points.size() > 1) {
+      lo = hi = curve.points.front().freq_hz;
+      for (const BoundsResult& b : curve.points) {
+        lo = std::min(lo, b.freq_hz);
+        hi = std::max(hi, b.freq_hz);
+      }
     }
+    std::vector<double> lf;
+    for (int i = 0; i < 400; ++i) lf.push_back(lo + (hi - lo) * i / 399.0);
     h5.Vector("linear/freq_hz", lf);
     h5.Vector("linear/free_amplitude_m",
               LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance));
