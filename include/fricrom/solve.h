@@ -42,6 +42,13 @@ struct NewtonOptions {
   int max_backtracks = 30;            // Armijo backtracking steps per iteration
   double armijo = 1e-4;
   double divergence_factor = 1e8;  // ‖R‖ growing past factor·‖R0‖ → diverged
+  // Systems of at least this many unknowns solve each Newton step first by GMRES preconditioned
+  // with the LU of the last factorised Jacobian and factorise anew only when GMRES misses
+  // krylov_tolerance (relative) within krylov_max_iterations products; 0 = a new LU every step.
+  // The default keeps small (lumped) systems on the plain LU route, bit for bit.
+  int krylov_min_size = 96;
+  int krylov_max_iterations = 12;
+  double krylov_tolerance = 1e-9;
   bool IsValid(std::string* error) const;
 };
 
@@ -50,6 +57,8 @@ struct NewtonSummary {
   std::string message;
   int iterations = 0;
   int evaluations = 0;
+  int factorizations = 0;         // dense LUs of the Jacobian
+  int krylov_iterations = 0;      // GMRES products on steps solved without a new LU
   double initial_residual = 0.0;  // ‖R‖ / scale
   double final_residual = 0.0;
   bool IsSolutionUsable() const { return status == SolverStatus::kConverged; }

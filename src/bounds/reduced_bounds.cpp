@@ -2,6 +2,7 @@
 // and the adjoint reduced gradient.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,9 +11,15 @@
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
 #include "linear/dense_lapack.h"
+#include "linear/gmres.h"
+#include "solve/newton_preconditioned.h"
 
 namespace fricrom::bounds_detail {
 namespace {
+
+// Adjoint solves by GMRES: relative residual and products before a new LU is preferred.
+constexpr double kAdjointTolerance = 1e-10;
+constexpr int kAdjointProducts = 16;
 
 // Chord iterations x ← x − J₀⁻¹ R(x) with the factorised transpose J₀ᵀ of the last accepted
 // point. Where no contact changes state between the two α the balance is linear in x (stick) or
@@ -48,25 +55,40 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   const HarmonicBalance& sys = *s.system;
   BoundSolution out;
   out.seed = seed;
-  // φ and the reduced gradient at a solution (x, a); `lu` keeps the factorised (∂R/∂x)ᵀ.
-  auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
-                                Eigen::VectorXd* g, dense::Lu* lu) {
-    HbmEvaluation e;
-    HbmRequest req;
-    req.jacobian = req.alpha_jacobian = true;
-    sys.Evaluate(x, s.omega, a, req, &e);
-    Eigen::VectorXd gx, ga;
-    *phi = Objective(s, x, a, e, &gx, &ga);
-    lu->ComputeTransposed(e.jacobian);
-    if (!(lu->rcond() > 1e-14)) return false;
-    *g = ga - e.alpha_jacobian.transpose() * lu->Solve(gx);
-    return g->allFinite();
-  };
+  // Chord steps and reused factorisations pay off where an LU is dear; small (lumped) systems
+  // keep plain Newton and a new LU per point.
+  const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
+  // φ and the reduced gradient at a solution (x, a) by one adjoint solve (∂R/∂x)ᵀ λ = ∂φ/∂x.
+  // Large systems first try GMRES preconditioned with `previous`, the factorised (∂R/∂x)ᵀ of an
+  // earlier point (nearby points differ in a few contacts' blocks); else a new LU. *lu receives
+  // the factorisation used.
+  auto value_and_gradient =
+      [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
+          const std::shared_ptr<const dense::Lu>& previous, std::shared_ptr<const dense::Lu>* lu) {
+        HbmEvaluation e;
+        HbmRequest req;
+        req.jacobian = req.alpha_jacobian = true;
+        sys.Evaluate(x, s.omega, a, req, &e);
+        Eigen::VectorXd gx, ga, lambda;
+        *phi = Objective(s, x, a, e, &gx, &ga);
+        if (chord && previous &&
+            dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
+                                       kAdjointProducts, &lambda)
+                .converged) {
+          *lu = previous;
+        } else {
+          auto fresh = std::make_shared<dense::Lu>();
+          fresh->ComputeTransposed(e.jacobian);
+          if (!(fresh->rcond() > 1e-14)) return false;
+          lambda = fresh->Solve(gx);
+          *lu = std::move(fresh);
+        }
+        *g = ga - e.alpha_jacobian.transpose() * lambda;
+        return g->allFinite();
+      };
   Eigen::VectorXd x = x0, a = a0, g;
   double phi = 0.0;
-  dense::Lu lu, lu_new;
-  // Chord steps pay off where an LU is dear; small (lumped) systems keep plain Newton.
-  const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
+  std::shared_ptr<const dense::Lu> lu, lu_new;
   std::vector<ContactRegime> regimes, regimes_new;
   if (chord) regimes = Regimes(sys, x, s.omega, a);
   auto finish = [&](BoundStatus status, const std::string& message) {
@@ -81,7 +103,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     }
     return out;
   };
-  if (!value_and_gradient(x, a, &phi, &g, &lu)) {
+  if (!value_and_gradient(x, a, &phi, &g, nullptr, &lu)) {
     return finish(BoundStatus::kFailed, "singular Jacobian at the start");
   }
   const NewtonOptions newton;
@@ -106,15 +128,18 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
       const HbmAtFrequency at(sys, s.omega, a_new);
       bool solved = false;
       x_new = x;
-      if (chord && ChordSolve(at, lu, newton, &x_new)) {
+      if (chord && ChordSolve(at, *lu, newton, &x_new)) {
         regimes_new = Regimes(sys, x_new, s.omega, a_new);
-        solved =
-            regimes_new == regimes && value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new);
+        solved = regimes_new == regimes &&
+                 value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new);
       }
       if (!solved) {
         x_new = x;
-        if (!SolveNewton(at, newton, &x_new).IsSolutionUsable()) continue;
-        if (!value_and_gradient(x_new, a_new, &phi_new, &g_new, &lu_new)) continue;
+        if (!SolveNewtonPreconditioned(at, newton, NewtonPreconditioner{lu.get(), true}, &x_new)
+                 .IsSolutionUsable()) {
+          continue;
+        }
+        if (!value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new)) continue;
         regimes_new.clear();
       }
       accepted = phi_new <= phi - 1e-4 * g.dot(a - a_new);

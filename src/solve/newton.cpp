@@ -1,9 +1,13 @@
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "fricrom/solve.h"
 #include "linear/dense_lapack.h"
+#include "linear/gmres.h"
+#include "solve/newton_preconditioned.h"
 
 namespace fricrom {
 
@@ -33,19 +37,49 @@ bool NewtonOptions::IsValid(std::string* error) const {
   if (max_backtracks < 0) return bad("max_backtracks must be >= 0");
   if (!(armijo > 0.0 && armijo < 0.5)) return bad("armijo must lie in (0, 0.5)");
   if (!(divergence_factor > 1.0)) return bad("divergence_factor must be > 1");
+  if (krylov_min_size < 0) return bad("krylov_min_size must be >= 0");
+  if (krylov_max_iterations < 1) return bad("krylov_max_iterations must be >= 1");
+  if (!(krylov_tolerance > 0.0 && krylov_tolerance < 1.0)) {
+    return bad("krylov_tolerance must lie in (0, 1)");
+  }
   return true;
 }
 
 std::string NewtonSummary::BriefReport() const {
   std::ostringstream s;
   s << "Newton: " << ToString(status) << " after " << iterations << " iterations (" << evaluations
-    << " evaluations), |R|/scale " << initial_residual << " -> " << final_residual;
+    << " evaluations, " << factorizations << " LU, " << krylov_iterations
+    << " GMRES products), |R|/scale " << initial_residual << " -> " << final_residual;
   if (!message.empty()) s << " [" << message << "]";
   return s.str();
 }
 
+namespace {
+
+// The Newton step J dx = −r by GMRES preconditioned with an earlier Jacobian's LU, where the
+// options allow it; false when a new factorisation is needed.
+bool StepByReusedLu(const Eigen::MatrixXd& j, const Eigen::VectorXd& r,
+                    const NewtonOptions& options, const NewtonPreconditioner& m, double forcing,
+                    Eigen::VectorXd* dx, NewtonSummary* summary) {
+  if (m.lu == nullptr || m.lu->rows() != j.rows() || options.krylov_min_size == 0 ||
+      j.rows() < options.krylov_min_size) {
+    return false;
+  }
+  const dense::GmresResult g = dense::PreconditionedGmres(
+      j, false, *m.lu, m.transposed, -r, forcing, options.krylov_max_iterations, dx);
+  summary->krylov_iterations += g.iterations;
+  return g.converged;
+}
+
+}  // namespace
+
 NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& options,
                           Eigen::VectorXd* x) {
+  return SolveNewtonPreconditioned(system, options, NewtonPreconditioner{}, x);
+}
+
+NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const NewtonOptions& options,
+                                        NewtonPreconditioner preconditioner, Eigen::VectorXd* x) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (x == nullptr || x->size() != system.size()) {
@@ -56,6 +90,8 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
   const double scale = system.ResidualScale();
   Eigen::VectorXd r, r_trial, x_trial;
   Eigen::MatrixXd j;
+  std::optional<dense::Lu> lu;  // the last Jacobian factorised here
+  double previous_norm = 0.0;
   system.Evaluate(*x, &r, &j);
   ++summary.evaluations;
   double norm = r.norm() / scale;
@@ -75,14 +111,23 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
       return summary;
     }
     ++summary.iterations;
-    const dense::Lu lu(j);
-    const double rcond = lu.rcond();
-    if (!(rcond > 1e-15)) {
-      summary.status = SolverStatus::kSingular;
-      summary.message = "Jacobian reciprocal condition " + std::to_string(rcond);
-      return summary;
+    Eigen::VectorXd dx;
+    // Inexact Newton (Eisenstat & Walker's second forcing term): a loose linear solve while
+    // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in.
+    const double ratio = previous_norm > 0.0 ? norm / previous_norm : 1.0;
+    const double forcing = std::clamp(0.9 * ratio * ratio, options.krylov_tolerance, 0.1);
+    if (!StepByReusedLu(j, r, options, preconditioner, forcing, &dx, &summary)) {
+      lu.emplace(j);
+      preconditioner = NewtonPreconditioner{&*lu, false};
+      ++summary.factorizations;
+      const double rcond = lu->rcond();
+      if (!(rcond > 1e-15)) {
+        summary.status = SolverStatus::kSingular;
+        summary.message = "Jacobian reciprocal condition " + std::to_string(rcond);
+        return summary;
+      }
+      dx = -lu->Solve(r);
     }
-    const Eigen::VectorXd dx = -lu.Solve(r);
     if (!dx.allFinite()) {
       summary.status = SolverStatus::kSingular;
       summary.message = "non-finite Newton step";
@@ -123,6 +168,7 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
       }
       t = best_t;
     }
+    previous_norm = norm;
     const double step = t * dx.norm();
     *x += t * dx;
     system.Evaluate(*x, &r, &j);

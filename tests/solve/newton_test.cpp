@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include "fricrom/solve.h"
+#include "linear/dense_lapack.h"
+#include "solve/newton_preconditioned.h"
 
 namespace fricrom {
 namespace {
@@ -56,6 +59,74 @@ struct NoRoot : SquareSystem {
   }
 };
 
+// A x + c ∘ x³ − b with a diagonally dominant A of 240 unknowns: large enough for the GMRES
+// route, and its Jacobian moves with x as a contact balance's does.
+struct CubicSystem : SquareSystem {
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b, c;
+  explicit CubicSystem(int n) {
+    std::srand(7);
+    a = Eigen::MatrixXd::Random(n, n) + 2.0 * n * Eigen::MatrixXd::Identity(n, n);
+    b = 40.0 * n * Eigen::VectorXd::Random(n);
+    c = 10.0 * (Eigen::VectorXd::Random(n).array() + 1.5).matrix();
+  }
+  int size() const override { return static_cast<int>(b.size()); }
+  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
+    *r = a * x + c.cwiseProduct(x.array().cube().matrix()) - b;
+    if (j) {
+      *j = a;
+      j->diagonal() += 3.0 * c.cwiseProduct(x.cwiseAbs2());
+    }
+  }
+};
+
+// The GMRES route (LU of an earlier Jacobian as preconditioner) reaches the root of the plain
+// LU route with fewer factorisations than steps.
+TEST(Newton, ReusedFactorisationsReachTheSameRoot) {
+  const CubicSystem sys(240);
+  NewtonOptions plain;
+  plain.krylov_min_size = 0;
+  Eigen::VectorXd x_plain = Eigen::VectorXd::Zero(240), x_krylov = x_plain;
+  const NewtonSummary sp = SolveNewton(sys, plain, &x_plain);
+  const NewtonSummary sk = SolveNewton(sys, NewtonOptions{}, &x_krylov);
+  ASSERT_TRUE(sp.IsSolutionUsable()) << sp.BriefReport();
+  ASSERT_TRUE(sk.IsSolutionUsable()) << sk.BriefReport();
+  EXPECT_EQ(sp.factorizations, sp.iterations);
+  EXPECT_EQ(sp.krylov_iterations, 0);
+  EXPECT_GT(sk.krylov_iterations, 0);
+  EXPECT_LT(sk.factorizations, sk.iterations);
+  EXPECT_LT((x_krylov - x_plain).norm(), 1e-10 * x_plain.norm());
+  Eigen::VectorXd r;
+  sys.Evaluate(x_krylov, &r, nullptr);
+  EXPECT_LE(r.norm(), NewtonOptions{}.residual_tolerance);
+}
+
+// A caller's factorisation of a nearby Jacobian (here: at the root, transposed as the bound
+// optimiser keeps it) lets a warm-started solve finish without an LU of its own.
+TEST(Newton, CallerPreconditionerSavesTheFactorisation) {
+  const CubicSystem sys(240);
+  Eigen::VectorXd root = Eigen::VectorXd::Zero(240), r;
+  ASSERT_TRUE(SolveNewton(sys, NewtonOptions{}, &root).IsSolutionUsable());
+  Eigen::MatrixXd j;
+  sys.Evaluate(root, &r, &j);
+  dense::Lu lu;
+  lu.ComputeTransposed(j);
+  Eigen::VectorXd x = root + 1e-3 * root.cwiseAbs().maxCoeff() * Eigen::VectorXd::Ones(240);
+  const NewtonSummary s =
+      SolveNewtonPreconditioned(sys, NewtonOptions{}, NewtonPreconditioner{&lu, true}, &x);
+  ASSERT_TRUE(s.IsSolutionUsable()) << s.BriefReport();
+  EXPECT_EQ(s.factorizations, 0);
+  EXPECT_GT(s.krylov_iterations, 0);
+  EXPECT_LT((x - root).norm(), 1e-10 * root.norm());
+  // A preconditioner of the wrong size is not used (a new LU instead), never an error.
+  dense::Lu small(Eigen::MatrixXd::Identity(100, 100));
+  x = root + 1e-3 * Eigen::VectorXd::Ones(240);
+  const NewtonSummary s2 =
+      SolveNewtonPreconditioned(sys, NewtonOptions{}, NewtonPreconditioner{&small, false}, &x);
+  ASSERT_TRUE(s2.IsSolutionUsable());
+  EXPECT_GE(s2.factorizations, 1);
+}
+
 TEST(Newton, ConvergesQuadraticallyToARoot) {
   Eigen::VectorXd x = Eigen::Vector2d(3.0, 1.0);
   const NewtonSummary s = SolveNewton(Circle{}, NewtonOptions{}, &x);
@@ -99,6 +170,13 @@ TEST(Newton, InvalidOptionsAndSizesThrow) {
   EXPECT_THROW(SolveNewton(Circle{}, o, &x), std::invalid_argument);
   Eigen::VectorXd bad = Eigen::VectorXd::Zero(3);
   EXPECT_THROW(SolveNewton(Circle{}, NewtonOptions{}, &bad), std::invalid_argument);
+  NewtonOptions k;
+  k.krylov_tolerance = 1.0;
+  EXPECT_FALSE(k.IsValid(&err));
+  EXPECT_NE(err.find("krylov_tolerance"), std::string::npos);
+  k = NewtonOptions{};
+  k.krylov_max_iterations = 0;
+  EXPECT_FALSE(k.IsValid(&err));
 }
 
 }  // namespace
