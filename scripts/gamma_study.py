@@ -5,7 +5,8 @@ side (issue 11, step 3; docs/lumped-vs-fe.md).
 FE side: `fricrom sweep CASE --param gamma --freq F` per reference frequency. Lumped side: for every
 gamma, `fricrom lump CASE --set gamma=g` (the damper preloads P = m a_z (1 -/+ gamma) are numbers in
 the lumped file) and `fricrom bounds LUMPED --freq F`. Finished steps are kept in OUT as JSON and
-reused by a rerun (the FE sweeps take minutes near the resonance). Writes OUT/gamma_study.json and
+reused by a rerun of the same command with the same binary and input files (the FE sweeps take
+minutes near the resonance). Writes OUT/gamma_study.json and
 the figure (atomically). Units SI.
 
 usage: scripts/gamma_study.py [--case meshes/cascade3/coarse.toml] [--freqs 1000,1080]
@@ -14,6 +15,7 @@ usage: scripts/gamma_study.py [--case meshes/cascade3/coarse.toml] [--freqs 1000
 """
 
 import argparse
+import hashlib
 import json
 import os
 import subprocess
@@ -25,17 +27,37 @@ from atomic_write import replace_atomically, write_text_atomically  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def run_json(cmd, path):
-    """Runs cmd (which prints one JSON object) unless `path` holds its result already."""
-    if os.path.exists(path):
+def file_digest(path, h):
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+
+
+def step_key(cmd, outputs):
+    """What a kept step depends on: the command line, the fricrom binary and every file the
+    command reads (`outputs`, the files it writes, excluded)."""
+    h = hashlib.sha256("\0".join(cmd).encode())
+    for i, arg in enumerate(cmd):
+        if os.path.isfile(arg) and arg not in outputs:  # inputs, not outputs
+            file_digest(arg, h)
+    return h.hexdigest()
+
+
+def run_json(cmd, path, outputs=()):
+    """Runs cmd (which prints one JSON object) unless `path` holds the result of this very
+    command, binary and input files already (a changed binary or case reruns the step)."""
+    key = step_key(cmd, outputs)
+    if os.path.exists(path) and all(os.path.exists(o) for o in outputs):
         with open(path, encoding="utf-8") as f:
-            return json.load(f)
+            kept = json.load(f)
+        if isinstance(kept, dict) and kept.get("step_key") == key and "result" in kept:
+            return kept["result"]
     print("gamma_study: " + " ".join(cmd), file=sys.stderr, flush=True)
     run = subprocess.run(cmd, capture_output=True, text=True)
     if run.returncode != 0:
         sys.exit(f"gamma_study: error: {' '.join(cmd)} failed:\n{run.stderr.strip()}")
     result = json.loads(run.stdout)
-    write_text_atomically(path, json.dumps(result) + "\n")
+    write_text_atomically(path, json.dumps({"step_key": key, "result": result}) + "\n")
     return result
 
 
@@ -66,9 +88,8 @@ def main():
         lumped = {"robustness": [], "y_min": [], "y_max": [], "status": [], "wall_s": 0.0}
         for g in gammas:
             lcase = os.path.join(a.out, f"lumped_gamma_{g:g}.toml")
-            if not os.path.exists(lcase):
-                run_json([a.fricrom, "lump", a.case, "--set", f"gamma={g!r}", "--to", lcase, "--json"],
-                         os.path.join(a.out, f"lump_gamma_{g:g}.json"))
+            run_json([a.fricrom, "lump", a.case, "--set", f"gamma={g!r}", "--to", lcase, "--json"],
+                     os.path.join(a.out, f"lump_gamma_{g:g}.json"), outputs=(lcase,))
             b = run_json([a.fricrom, "bounds", lcase, "--freq", repr(f), "--json", "--quiet",
                           "--out", os.path.join(a.out, f"lumped_bounds_{g:g}_{f:g}")],
                          os.path.join(a.out, f"lumped_bounds_{g:g}_{f:g}.json"))

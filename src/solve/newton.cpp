@@ -92,7 +92,10 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
   Eigen::MatrixXd j;
   std::optional<dense::Lu> lu;  // the last Jacobian factorised here
   double previous_norm = 0.0;
-  system.Evaluate(*x, &r, &j);
+  // The Jacobian is evaluated only where a step is taken: a solve that starts or lands within
+  // the tolerance pays no Jacobian there (warm-started solves of the bound optimiser).
+  bool jacobian_current = false;
+  system.Evaluate(*x, &r, nullptr);
   ++summary.evaluations;
   double norm = r.norm() / scale;
   summary.initial_residual = summary.final_residual = norm;
@@ -111,6 +114,11 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
       return summary;
     }
     ++summary.iterations;
+    if (!jacobian_current) {
+      system.Evaluate(*x, &r, &j);
+      ++summary.evaluations;
+      jacobian_current = true;
+    }
     Eigen::VectorXd dx;
     // Inexact Newton (Eisenstat & Walker's second forcing term): a loose linear solve while
     // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in.
@@ -146,6 +154,7 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
     double t = 1.0;
     bool accepted = false;
     double best_norm = norm, best_t = 0.0;
+    Eigen::VectorXd r_best;
     for (int bt = 0; bt <= options.max_backtracks; ++bt, t *= 0.5) {
       x_trial = *x + t * dx;
       system.Evaluate(x_trial, &r_trial, nullptr);
@@ -154,6 +163,7 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
       if (std::isfinite(trial) && trial < best_norm) {
         best_norm = trial;
         best_t = t;
+        r_best = r_trial;
       }
       if (std::isfinite(trial) && trial * trial <= (1.0 - 2.0 * options.armijo * t) * norm * norm) {
         accepted = true;
@@ -167,12 +177,14 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
         return summary;
       }
       t = best_t;
+      x_trial = *x + t * dx;
+      r_trial.swap(r_best);
     }
     previous_norm = norm;
     const double step = t * dx.norm();
-    *x += t * dx;
-    system.Evaluate(*x, &r, &j);
-    ++summary.evaluations;
+    x->swap(x_trial);  // x + t dx, whose residual the line search evaluated
+    r.swap(r_trial);
+    jacobian_current = false;
     norm = r.norm() / scale;
     summary.final_residual = norm;
     if (!std::isfinite(norm) || norm > options.divergence_factor * summary.initial_residual) {
