@@ -74,6 +74,7 @@ class HbmAtFrequency : public SquareSystem {
   int size() const override;
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override;
   double ResidualScale() const override;
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x) const override;
 
  private:
   const HarmonicBalance& system_;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fricrom/contact_law.h"
+#include "fricrom/solve.h"
 
 namespace fricrom {
 
@@ -105,6 +106,12 @@ class HarmonicBalance {
                                                        const Eigen::VectorXd& alpha) const = 0;
   virtual CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
                                const Eigen::VectorXd& alpha) const = 0;
+
+  // ∂R/∂x at (x, ω, α) as a matrix-free operator (nullptr, the default, where forming the
+  // Jacobian is as cheap). It keeps its own copy of the contact derivatives and reads this
+  // balance's linear part: use it on the thread that owns the balance, while the balance lives.
+  virtual std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double omega,
+                                                      const Eigen::VectorXd& alpha) const;
 
   // Structural nonzeros of the Jacobians (dense unless a balance knows better; the condensed
   // balance is dense through the receptance, the full one is as sparse as K, M, C and the

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,13 @@ namespace fricrom {
 
 enum class SolverStatus { kConverged, kMaxIterations, kSingular, kDiverged };
 std::string ToString(SolverStatus status);
+
+// Products with a Jacobian without forming it: J v, or Jᵀ v when `transposed`.
+class JacobianOperator {
+ public:
+  virtual ~JacobianOperator() = default;
+  virtual void Apply(const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const = 0;
+};
 
 // R(x) = 0 with a dense Jacobian.
 class SquareSystem {
@@ -21,6 +29,12 @@ class SquareSystem {
   virtual void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian) const = 0;  // jacobian may be null
   virtual double ResidualScale() const { return 1.0; }         // tolerances are relative to it
+  // The Jacobian at x as an operator, where the system applies it for less than it costs to
+  // form (the condensed balance); nullptr, the default, where not. Newton's GMRES steps then
+  // need no dense Jacobian.
+  virtual std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& /*x*/) const {
+    return nullptr;
+  }
 };
 
 // R(x, λ) = 0: the family continuation follows.

@@ -62,30 +62,56 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   // Large systems first try GMRES preconditioned with `previous`, the factorised (∂R/∂x)ᵀ of an
   // earlier point (nearby points differ in a few contacts' blocks); else a new LU. *lu receives
   // the factorisation used.
-  auto value_and_gradient =
-      [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
-          const std::shared_ptr<const dense::Lu>& previous, std::shared_ptr<const dense::Lu>* lu) {
-        HbmEvaluation e;
-        HbmRequest req;
-        req.jacobian = req.alpha_jacobian = true;
-        sys.Evaluate(x, s.omega, a, req, &e);
-        Eigen::VectorXd gx, ga, lambda;
-        *phi = Objective(s, x, a, e, &gx, &ga);
-        if (chord && previous &&
-            dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
-                                       kAdjointProducts, &lambda)
-                .converged) {
-          *lu = previous;
-        } else {
-          auto fresh = std::make_shared<dense::Lu>();
-          fresh->ComputeTransposed(e.jacobian);
-          if (!(fresh->rcond() > 1e-14)) return false;
-          lambda = fresh->Solve(gx);
-          *lu = std::move(fresh);
-        }
-        *g = ga - e.alpha_jacobian.transpose() * lambda;
-        return g->allFinite();
+  auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
+                                Eigen::VectorXd* g,
+                                const std::shared_ptr<const dense::Lu>& previous,
+                                std::shared_ptr<const dense::Lu>* lu) {
+    // The amplitude objective needs no ∂R/∂x of its own: with an earlier LU to precondition,
+    // the adjoint GMRES runs on the matrix-free Jacobian and the dense one is formed only
+    // if it misses (the loss factor's gradient reads the dense Jacobian).
+    const bool krylov = chord && previous;
+    const std::unique_ptr<JacobianOperator> op = krylov && s.objective != BoundsOptions::kLossFactor
+                                                     ? sys.Linearize(x, s.omega, a)
+                                                     : nullptr;
+    HbmEvaluation e;
+    HbmRequest req;
+    req.alpha_jacobian = true;
+    req.jacobian = op == nullptr;
+    sys.Evaluate(x, s.omega, a, req, &e);
+    Eigen::VectorXd gx, ga, lambda;
+    *phi = Objective(s, x, a, e, &gx, &ga);
+    bool solved = false;
+    if (op) {
+      const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+        op->Apply(v, true, out);
       };
+      solved = dense::PreconditionedGmres(apply, *previous, false, gx, kAdjointTolerance,
+                                          kAdjointProducts, &lambda)
+                   .converged;
+      if (!solved) {
+        req.alpha_jacobian = false;
+        req.jacobian = true;
+        HbmEvaluation ej;
+        sys.Evaluate(x, s.omega, a, req, &ej);
+        e.jacobian = std::move(ej.jacobian);
+      }
+    } else if (krylov) {
+      solved = dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
+                                          kAdjointProducts, &lambda)
+                   .converged;
+    }
+    if (solved) {
+      *lu = previous;
+    } else {
+      auto fresh = std::make_shared<dense::Lu>();
+      fresh->ComputeTransposed(e.jacobian);
+      if (!(fresh->rcond() > 1e-14)) return false;
+      lambda = fresh->Solve(gx);
+      *lu = std::move(fresh);
+    }
+    *g = ga - e.alpha_jacobian.transpose() * lambda;
+    return g->allFinite();
+  };
   Eigen::VectorXd x = x0, a = a0, g;
   double phi = 0.0;
   std::shared_ptr<const dense::Lu> lu, lu_new;

@@ -11,6 +11,11 @@ namespace fricrom {
 
 std::unique_ptr<HarmonicBalance> HarmonicBalance::WithFewerHarmonics(int) const { return nullptr; }
 
+std::unique_ptr<JacobianOperator> HarmonicBalance::Linearize(
+    const Eigen::VectorXd& /*x*/, double /*omega*/, const Eigen::VectorXd& /*alpha*/) const {
+  return nullptr;
+}
+
 JacobianPattern HarmonicBalance::StructuralPattern() const {
   const int nx = num_unknowns(), n = nx + num_alpha();
   JacobianPattern p;

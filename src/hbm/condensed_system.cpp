@@ -9,6 +9,7 @@
 
 #include "fricrom/contact_forces.h"
 #include "fricrom/hbm_system.h"
+#include "hbm/condensed_jacobian.h"
 #include "linear/harmonic_receptance.h"
 
 namespace fricrom {
@@ -194,30 +195,45 @@ Eigen::VectorXd CondensedSystem::Excitation(int h) const {
   return f;
 }
 
+void CondensedSystem::EffectiveBlocks(int c, EffectiveForceBlocks* out) const {
+  const ContactForceBlocks& f = blocks_[c];
+  const double kt = model_.contacts[c].kt, kn = model_.contacts[c].kn;
+  const int nh = 2 * options_.harmonics + 1;
+  // Fully stuck, T and N are linear in the harmonics h ≥ 1 with the stick stiffness, so those
+  // entries of F̃ = F − k u vanish but for the AFT's round-off: they are set to exact zeros, which
+  // leaves unit columns in the Jacobian that the dense LU eliminates (the mean, which sets no
+  // static tangential force under α, keeps its derivative).
+  const double floor = FullStick(f) ? 1e-12 : 0.0;
+  const auto clean = [floor](double value, double k) {
+    return std::abs(value) <= floor * k ? 0.0 : value;
+  };
+  out->tu.resize(nh, nh);
+  out->tv.resize(nh, nh);
+  out->nv.resize(nh, nh);
+  for (int l = 0; l < nh; ++l) {
+    for (int j = 0; j < nh; ++j) {
+      const double stick = j == l ? 1.0 : 0.0;
+      out->tu(j, l) = clean(f.dt_du(j, l) - kt * stick, kt);
+      out->tv(j, l) = clean(f.dt_dv(j, l), kn);
+      out->nv(j, l) = clean(f.dn_dv(j, l) - kn * stick, kn);
+    }
+  }
+}
+
 Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd& a) const {
   const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
   const std::vector<int> js = Coefficients(h);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.rows(), nr * nh);
+  EffectiveForceBlocks d;
   for (int c = 0; c < nc; ++c) {
-    const ContactForceBlocks& f = blocks_[c];
-    const double kt = model_.contacts[c].kt, kn = model_.contacts[c].kn;
+    EffectiveBlocks(c, &d);
     const int rt = row_t_[c], rn = row_n_[c];
-    // Fully stuck, T and N are linear in the harmonics h ≥ 1 with the stick stiffness, so those
-    // entries of F̃ = F − k u vanish but for the AFT's round-off: they are set to exact zeros, which
-    // leaves unit columns in the Jacobian that the dense LU eliminates (the mean, which sets no
-    // static tangential force under α, keeps its derivative).
-    const double floor = FullStick(f) ? 1e-12 : 0.0;
-    const auto clean = [floor](double value, double k) {
-      return std::abs(value) <= floor * k ? 0.0 : value;
-    };
     for (size_t jj = 0; jj < js.size(); ++jj) {
       const int j = js[jj];
       const auto col_t = a.col(static_cast<int>(jj) * nr + rt);  // rows of F̃ (j, T)
       const auto col_n = a.col(static_cast<int>(jj) * nr + rn);  // rows of F̃ (j, N)
       for (int l = 0; l < nh; ++l) {
-        const double stick = j == l ? 1.0 : 0.0;
-        const double tu = clean(f.dt_du(j, l) - kt * stick, kt);
-        const double tv = clean(f.dt_dv(j, l), kn), nv = clean(f.dn_dv(j, l) - kn * stick, kn);
+        const double tu = d.tu(j, l), tv = d.tv(j, l), nv = d.nv(j, l);
         if (tu != 0.0) out.col(l * nr + rt) += tu * col_t;
         if (tv != 0.0) out.col(l * nr + rn) += tv * col_t;
         if (nv != 0.0) out.col(l * nr + rn) += nv * col_n;
@@ -225,6 +241,25 @@ Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd
     }
   }
   return out;
+}
+
+std::unique_ptr<JacobianOperator> CondensedSystem::Linearize(const Eigen::VectorXd& x, double omega,
+                                                             const Eigen::VectorXd& alpha) const {
+  CheckInputs(x, alpha);
+  receptance_->SetFrequency(omega);
+  ContactForces(x, alpha, AftDerivatives{true, false});
+  CondensedJacobianData data;
+  data.harmonics = options_.harmonics;
+  data.num_relative = num_relative();
+  data.w = w_;
+  data.sy = sy_;
+  data.row_t = row_t_;
+  data.row_n = row_n_;
+  data.blocks.resize(num_contacts());
+  for (int c = 0; c < num_contacts(); ++c) EffectiveBlocks(c, &data.blocks[c]);
+  data.receptance = receptance_;
+  data.omega = omega;
+  return MakeCondensedJacobian(std::move(data));
 }
 
 void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,

@@ -8,8 +8,24 @@ namespace fricrom::dense {
 GmresResult PreconditionedGmres(const Eigen::MatrixXd& a, bool transpose_a, const Lu& m,
                                 bool transpose_m, const Eigen::VectorXd& b, double tolerance,
                                 int max_iterations, Eigen::VectorXd* x) {
-  const Eigen::Index n = a.rows();
-  if (a.cols() != n || b.size() != n || m.rows() != n || x == nullptr || max_iterations < 1) {
+  if (a.rows() != a.cols() || a.rows() != b.size()) {
+    throw std::invalid_argument("PreconditionedGmres: inconsistent sizes or arguments");
+  }
+  const LinearMap apply = [&a, transpose_a](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+    if (transpose_a) {
+      out->noalias() = a.transpose() * v;
+    } else {
+      out->noalias() = a * v;
+    }
+  };
+  return PreconditionedGmres(apply, m, transpose_m, b, tolerance, max_iterations, x);
+}
+
+GmresResult PreconditionedGmres(const LinearMap& apply, const Lu& m, bool transpose_m,
+                                const Eigen::VectorXd& b, double tolerance, int max_iterations,
+                                Eigen::VectorXd* x) {
+  const Eigen::Index n = b.size();
+  if (m.rows() != n || x == nullptr || max_iterations < 1) {
     throw std::invalid_argument("PreconditionedGmres: inconsistent sizes or arguments");
   }
   GmresResult result;
@@ -28,10 +44,11 @@ GmresResult PreconditionedGmres(const Eigen::MatrixXd& a, bool transpose_a, cons
   v.col(0) = b / beta;
   g[0] = beta;
   int k = 0;
+  Eigen::VectorXd w(n);
   while (k < k_max) {
     z.col(k) = m.Solve(Eigen::VectorXd(v.col(k)), transpose_m);
-    Eigen::VectorXd w =
-        transpose_a ? Eigen::VectorXd(a.transpose() * z.col(k)) : Eigen::VectorXd(a * z.col(k));
+    apply(z.col(k), &w);
+    if (w.size() != n) throw std::invalid_argument("PreconditionedGmres: product of wrong size");
     for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
       h(i, k) = v.col(i).dot(w);
       w -= h(i, k) * v.col(i);

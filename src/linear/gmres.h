@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 
 #include "linear/dense_lapack.h"
 
@@ -24,5 +25,11 @@ struct GmresResult {
 GmresResult PreconditionedGmres(const Eigen::MatrixXd& a, bool transpose_a, const Lu& m,
                                 bool transpose_m, const Eigen::VectorXd& b, double tolerance,
                                 int max_iterations, Eigen::VectorXd* x);
+
+// The same with A given by its products: apply(v, &out) sets out = A v.
+using LinearMap = std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*)>;
+GmresResult PreconditionedGmres(const LinearMap& apply, const Lu& m, bool transpose_m,
+                                const Eigen::VectorXd& b, double tolerance, int max_iterations,
+                                Eigen::VectorXd* x);
 
 }  // namespace fricrom::dense

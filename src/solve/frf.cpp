@@ -60,6 +60,9 @@ void HbmAtFrequency::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r,
   if (j) *j = std::move(e.jacobian);
 }
 double HbmAtFrequency::ResidualScale() const { return system_.ResidualScale(); }
+std::unique_ptr<JacobianOperator> HbmAtFrequency::Linearize(const Eigen::VectorXd& x) const {
+  return system_.Linearize(x, omega_, alpha_);
+}
 
 HbmFrequencyFamily::HbmFrequencyFamily(const HarmonicBalance& system, const Eigen::VectorXd& alpha)
     : system_(system), alpha_(alpha) {}

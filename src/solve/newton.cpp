@@ -56,17 +56,18 @@ std::string NewtonSummary::BriefReport() const {
 
 namespace {
 
-// The Newton step J dx = −r by GMRES preconditioned with an earlier Jacobian's LU, where the
-// options allow it; false when a new factorisation is needed.
-bool StepByReusedLu(const Eigen::MatrixXd& j, const Eigen::VectorXd& r,
-                    const NewtonOptions& options, const NewtonPreconditioner& m, double forcing,
-                    Eigen::VectorXd* dx, NewtonSummary* summary) {
-  if (m.lu == nullptr || m.lu->rows() != j.rows() || options.krylov_min_size == 0 ||
-      j.rows() < options.krylov_min_size) {
-    return false;
-  }
-  const dense::GmresResult g = dense::PreconditionedGmres(
-      j, false, *m.lu, m.transposed, -r, forcing, options.krylov_max_iterations, dx);
+bool KrylovAllowed(const NewtonOptions& options, const NewtonPreconditioner& m, int n) {
+  return m.lu != nullptr && m.lu->rows() == n && options.krylov_min_size > 0 &&
+         n >= options.krylov_min_size;
+}
+
+// The Newton step J dx = −r by GMRES preconditioned with an earlier Jacobian's LU, J given by
+// `apply`; false when a new factorisation is needed.
+bool KrylovStep(const dense::LinearMap& apply, const Eigen::VectorXd& r,
+                const NewtonOptions& options, const NewtonPreconditioner& m, double forcing,
+                Eigen::VectorXd* dx, NewtonSummary* summary) {
+  const dense::GmresResult g = dense::PreconditionedGmres(apply, *m.lu, m.transposed, -r, forcing,
+                                                          options.krylov_max_iterations, dx);
   summary->krylov_iterations += g.iterations;
   return g.converged;
 }
@@ -114,17 +115,34 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
       return summary;
     }
     ++summary.iterations;
-    if (!jacobian_current) {
-      system.Evaluate(*x, &r, &j);
-      ++summary.evaluations;
-      jacobian_current = true;
-    }
     Eigen::VectorXd dx;
     // Inexact Newton (Eisenstat & Walker's second forcing term): a loose linear solve while
     // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in.
     const double ratio = previous_norm > 0.0 ? norm / previous_norm : 1.0;
     const double forcing = std::clamp(0.9 * ratio * ratio, options.krylov_tolerance, 0.1);
-    if (!StepByReusedLu(j, r, options, preconditioner, forcing, &dx, &summary)) {
+    bool stepped = false, tried = false;
+    if (!jacobian_current && KrylovAllowed(options, preconditioner, system.size())) {
+      // Matrix-free products where the system offers them: no dense Jacobian unless GMRES misses.
+      if (const std::unique_ptr<JacobianOperator> op = system.Linearize(*x)) {
+        const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+          op->Apply(v, false, out);
+        };
+        tried = true;
+        stepped = KrylovStep(apply, r, options, preconditioner, forcing, &dx, &summary);
+      }
+    }
+    if (!stepped && !jacobian_current) {
+      system.Evaluate(*x, &r, &j);
+      ++summary.evaluations;
+      jacobian_current = true;
+    }
+    if (!stepped && !tried && KrylovAllowed(options, preconditioner, system.size())) {
+      const dense::LinearMap apply = [&j](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+        out->noalias() = j * v;
+      };
+      stepped = KrylovStep(apply, r, options, preconditioner, forcing, &dx, &summary);
+    }
+    if (!stepped) {
       lu.emplace(j);
       preconditioner = NewtonPreconditioner{&*lu, false};
       ++summary.factorizations;

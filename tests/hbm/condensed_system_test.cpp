@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <set>
@@ -123,6 +125,72 @@ TEST(Condensed, DerivativesMatchCentralDifferences) {
   }
   // The points exercised every branch of the law: stick, both slip directions, lift-off.
   EXPECT_EQ(seen.size(), 4u);
+}
+
+// The matrix-free Jacobian (Linearize) equals the dense one, J v and Jᵀ v, in stick, slip and
+// lift-off (light preload), at H = 1, 2 and 3, and where contacts share a normal row.
+void ExpectOperatorEqualsDense(const CondensedSystem& cond, const Eigen::VectorXd& x, double w,
+                               const Eigen::VectorXd& alpha, unsigned seed) {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = true;
+  cond.Evaluate(x, w, alpha, req, &e);
+  const std::unique_ptr<JacobianOperator> op = cond.Linearize(x, w, alpha);
+  ASSERT_NE(op, nullptr);
+  std::srand(seed);
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::VectorXd v = Eigen::VectorXd::Random(x.size());
+    Eigen::VectorXd jv, jtv;
+    op->Apply(v, false, &jv);
+    op->Apply(v, true, &jtv);
+    const Eigen::VectorXd ref = e.jacobian * v, ref_t = e.jacobian.transpose() * v;
+    EXPECT_LE((jv - ref).norm(), 1e-12 * ref.norm());
+    EXPECT_LE((jtv - ref_t).norm(), 1e-12 * ref_t.norm());
+  }
+}
+
+TEST(Condensed, MatrixFreeJacobianEqualsTheDenseJacobian) {
+  const Model light = testing::LoadBaseline({{"F0_ref", 15.0}}).model;
+  std::set<ContactState> seen;
+  for (int harmonics : {1, 2, 3}) {
+    CondensedSystem cond(light, HbmOptions{harmonics, 128});
+    for (double f : {240.0, 266.0, 285.0}) {
+      const Eigen::Vector4d alpha(0.2, -0.4, 0.6, -0.1);
+      const FrfPoint sol = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+      ASSERT_EQ(sol.status, SolverStatus::kConverged);
+      ExpectOperatorEqualsDense(cond, sol.x, kTwoPi * f, alpha, 3 + harmonics);
+      for (const ContactHistory& hist : cond.ContactHistories(sol.x, kTwoPi * f, alpha)) {
+        for (ContactState st : hist.states) seen.insert(st);
+      }
+    }
+  }
+  EXPECT_EQ(seen.size(), 4u);  // stick, both slip directions, lift-off
+  // 12 pairs with two tangential directions each (shared normal rows), from a perturbed start
+  // (stuck and slipping pairs mixed) and at the converged state.
+  Model strip = testing::ContactStrip(12);
+  std::vector<Contact> split;
+  for (const Contact& ct : strip.contacts) {
+    for (int d = 0; d < 2; ++d) {
+      Contact half = ct;
+      half.name = ct.name + (d ? ".t2" : ".t1");
+      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
+      half.kn = 0.5 * ct.kn;
+      half.kt = 0.5 * ct.kt;
+      half.normal_preload = 0.5 * ct.normal_preload;
+      half.mu = 2.0 * ct.mu;
+      split.push_back(half);
+    }
+  }
+  strip.contacts = split;
+  for (int harmonics : {1, 3}) {
+    CondensedSystem cond(strip, HbmOptions{harmonics, 64});
+    const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(cond.num_contacts(), -0.9, 0.9);
+    const double w = kTwoPi * 1000.0;
+    ExpectOperatorEqualsDense(cond, 3.0 * cond.StickLinearSolution(w), w, alpha, 11);
+    const FrfPoint sol = SolveAtFrequency(cond, alpha, 1000.0, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(sol.status, SolverStatus::kConverged);
+    ExpectOperatorEqualsDense(cond, sol.x, w, alpha, 12);
+  }
 }
 
 // Energy balance at converged condensed solutions: excitation work = viscous + friction.

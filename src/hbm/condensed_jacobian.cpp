@@ -1,0 +1,110 @@
+#include "hbm/condensed_jacobian.h"
+
+#include <stdexcept>
+#include <utility>
+
+#include "linear/harmonic_receptance.h"
+
+namespace fricrom {
+namespace {
+
+class CondensedJacobian final : public JacobianOperator {
+ public:
+  explicit CondensedJacobian(CondensedJacobianData d) : d_(std::move(d)) {
+    nh_ = 2 * d_.harmonics + 1;
+    bs_ = d_.num_relative + 1;
+  }
+
+  void Apply(const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const override {
+    if (v.size() != nh_ * bs_) throw std::invalid_argument("CondensedJacobian: wrong size");
+    d_.receptance->SetFrequency(d_.omega);  // G_h of this ω (a no-op unless ω moved)
+    if (transposed) {
+      ApplyTransposed(v, out);
+    } else {
+      ApplyDirect(v, out);
+    }
+  }
+
+ private:
+  int Idx(int coefficient, int row) const { return coefficient * bs_ + row; }
+  // Coefficients of harmonic h in the layout [c0, a1, b1, ...].
+  static int FirstCoefficient(int h) { return h == 0 ? 0 : 2 * h - 1; }
+  static int NumCoefficients(int h) { return h == 0 ? 1 : 2; }
+
+  // J v = W (v + [G_h; P_h] D r) with r the relative part of v.
+  void ApplyDirect(const Eigen::VectorXd& v, Eigen::VectorXd* out) const {
+    const int nr = d_.num_relative;
+    Eigen::MatrixXd q = Eigen::MatrixXd::Zero(nr, nh_);  // D r, column = coefficient
+    Eigen::VectorXd rt(nh_), rn(nh_);
+    for (size_t c = 0; c < d_.blocks.size(); ++c) {
+      const EffectiveForceBlocks& b = d_.blocks[c];
+      const int t = d_.row_t[c], n = d_.row_n[c];
+      for (int l = 0; l < nh_; ++l) {
+        rt[l] = v[Idx(l, t)];
+        rn[l] = v[Idx(l, n)];
+      }
+      q.row(t) += (b.tu * rt + b.tv * rn).transpose();  // rows may be shared: add
+      q.row(n) += (b.nv * rn).transpose();
+    }
+    out->resize(v.size());
+    for (int h = 0; h <= d_.harmonics; ++h) {
+      const int j0 = FirstCoefficient(h), m = NumCoefficients(h);
+      const Eigen::Map<const Eigen::VectorXd> qs(q.col(j0).data(), m * nr);  // stacked (j0, j0+1)
+      const Eigen::VectorXd gq = d_.receptance->G(h) * qs;
+      const Eigen::VectorXd pq = d_.receptance->DofPRows(h) * qs;
+      for (int jj = 0; jj < m; ++jj) {
+        const int j = j0 + jj;
+        for (int i = 0; i < nr; ++i) (*out)[Idx(j, i)] = d_.w[i] * (v[Idx(j, i)] + gq[jj * nr + i]);
+        (*out)[Idx(j, nr)] = d_.sy * (v[Idx(j, nr)] + pq[jj]);
+      }
+    }
+  }
+
+  // Jᵀ v = s + Dᵀ [G_hᵀ s_r + P_hᵀ s_y] with s = W v.
+  void ApplyTransposed(const Eigen::VectorXd& v, Eigen::VectorXd* out) const {
+    const int nr = d_.num_relative;
+    Eigen::MatrixXd t = Eigen::MatrixXd::Zero(nr, nh_);  // G_hᵀ s_r + P_hᵀ s_y per coefficient
+    Eigen::MatrixXd sr(nr, 2);
+    Eigen::Vector2d sy;
+    for (int h = 0; h <= d_.harmonics; ++h) {
+      const int j0 = FirstCoefficient(h), m = NumCoefficients(h);
+      for (int jj = 0; jj < m; ++jj) {
+        for (int i = 0; i < nr; ++i) sr(i, jj) = d_.w[i] * v[Idx(j0 + jj, i)];
+        sy[jj] = d_.sy * v[Idx(j0 + jj, nr)];
+      }
+      const Eigen::Map<const Eigen::VectorXd> srs(sr.data(), m * nr);
+      Eigen::Map<Eigen::VectorXd> ts(t.col(j0).data(), m * nr);
+      ts.noalias() = d_.receptance->G(h).transpose() * srs;
+      ts.noalias() += d_.receptance->DofPRows(h).transpose() * sy.head(m);
+    }
+    out->resize(v.size());
+    for (int j = 0; j < nh_; ++j) {
+      for (int i = 0; i < nr; ++i) (*out)[Idx(j, i)] = d_.w[i] * v[Idx(j, i)];
+      (*out)[Idx(j, nr)] = d_.sy * v[Idx(j, nr)];
+    }
+    Eigen::VectorXd tt(nh_), tn(nh_);
+    for (size_t c = 0; c < d_.blocks.size(); ++c) {
+      const EffectiveForceBlocks& b = d_.blocks[c];
+      const int rt = d_.row_t[c], rn = d_.row_n[c];
+      tt = t.row(rt).transpose();
+      tn = t.row(rn).transpose();
+      const Eigen::VectorXd dt = b.tu.transpose() * tt;
+      const Eigen::VectorXd dn = b.tv.transpose() * tt + b.nv.transpose() * tn;
+      for (int l = 0; l < nh_; ++l) {
+        (*out)[Idx(l, rt)] += dt[l];
+        (*out)[Idx(l, rn)] += dn[l];
+      }
+    }
+  }
+
+  CondensedJacobianData d_;
+  int nh_ = 3, bs_ = 1;
+};
+
+}  // namespace
+
+std::unique_ptr<JacobianOperator> MakeCondensedJacobian(CondensedJacobianData data) {
+  return std::make_unique<CondensedJacobian>(std::move(data));
+}
+
+}  // namespace fricrom
