@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "fricrom/units.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom {
 namespace {
@@ -59,13 +60,19 @@ namespace {
 std::vector<double> ModalAmplitude(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m,
                                    const Eigen::MatrixXd& c, const Eigen::VectorXcd& f,
                                    int response, const std::vector<double>& freqs_hz) {
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(k, m);
-  if (es.info() != Eigen::Success || Eigen::LLT<Eigen::MatrixXd>(m).info() != Eigen::Success) {
+  // LAPACK (dsygvd, dgemm) on FE-sized systems: the references of an FE bound curve took 13 % of
+  // a bound's time with Eigen's solver; small (lumped) systems keep Eigen's, bit for bit.
+  Eigen::VectorXd lambda;
+  Eigen::MatrixXd phi;
+  if (!dense::SymmetricGeneralizedEigen(k, m, &lambda, &phi)) {
     throw std::invalid_argument(
         "LinearResponseAmplitude: modal route needs a positive definite mass matrix");
   }
-  const Eigen::MatrixXd& phi = es.eigenvectors();
-  const Eigen::VectorXd cm = (phi.transpose() * c * phi).diagonal();
+  const Eigen::VectorXd cm =
+      k.rows() < dense::kLapackMinSize
+          ? Eigen::VectorXd((phi.transpose() * c * phi).diagonal())
+          : Eigen::VectorXd(
+                phi.cwiseProduct(dense::Product(c, false, phi, false)).colwise().sum().transpose());
   const Eigen::VectorXcd weight =
       phi.row(response).transpose().cast<std::complex<double>>().cwiseProduct(phi.transpose() * f);
   std::vector<double> amp;
@@ -73,7 +80,7 @@ std::vector<double> ModalAmplitude(const Eigen::MatrixXd& k, const Eigen::Matrix
     const double w = RadPerS(fhz);
     std::complex<double> q = 0.0;
     for (Eigen::Index i = 0; i < weight.size(); ++i) {
-      q += weight[i] / std::complex<double>(es.eigenvalues()[i] - w * w, w * cm[i]);
+      q += weight[i] / std::complex<double>(lambda[i] - w * w, w * cm[i]);
     }
     amp.push_back(std::abs(q));
   }
