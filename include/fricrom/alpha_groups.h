@@ -49,6 +49,10 @@ class AlphaGroupedBalance final : public HarmonicBalance {
                        const Eigen::VectorXd& alpha) const override {
     return inner_->Energies(x, omega, Expand(alpha));
   }
+  std::vector<ContactRegime> ContactRegimes(const Eigen::VectorXd& x, double omega,
+                                            const Eigen::VectorXd& alpha) const override {
+    return inner_->ContactRegimes(x, omega, Expand(alpha));
+  }
   std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double omega,
                                               const Eigen::VectorXd& alpha) const override {
     return inner_->Linearize(x, omega, Expand(alpha));

@@ -63,6 +63,9 @@ class CondensedSystem : public HarmonicBalance {
                                                const Eigen::VectorXd& alpha) const override;
   CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
                        const Eigen::VectorXd& alpha) const override;
+  // From the AFT of the relative-displacement unknowns (no recovery of the DOFs).
+  std::vector<ContactRegime> ContactRegimes(const Eigen::VectorXd& x, double omega,
+                                            const Eigen::VectorXd& alpha) const override;
 
   // All DOF coefficients (hbm.h layout) of condensed unknowns x at (ω, α): x̃(r).
   Eigen::VectorXd Recover(const Eigen::VectorXd& x, double omega,

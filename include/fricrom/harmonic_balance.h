@@ -106,6 +106,12 @@ class HarmonicBalance {
                                                        const Eigen::VectorXd& alpha) const = 0;
   virtual CycleEnergy Energies(const Eigen::VectorXd& x, double omega,
                                const Eigen::VectorXd& alpha) const = 0;
+  // Each contact's regime over the period (ContactHistories' `regime`). A balance may classify
+  // from its own unknowns for less: the condensed one from its relative displacements, without
+  // recovering every DOF (equal to the histories' regimes at solutions, up to samples on a
+  // state boundary).
+  virtual std::vector<ContactRegime> ContactRegimes(const Eigen::VectorXd& x, double omega,
+                                                    const Eigen::VectorXd& alpha) const;
 
   // ∂R/∂x at (x, ω, α) as a matrix-free operator (nullptr, the default, where forming the
   // Jacobian is as cheap). It keeps its own copy of the contact derivatives and reads this

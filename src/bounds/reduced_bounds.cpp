@@ -116,7 +116,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   double phi = 0.0;
   std::shared_ptr<const dense::Lu> lu, lu_new;
   std::vector<ContactRegime> regimes, regimes_new;
-  if (chord) regimes = Regimes(sys, x, s.omega, a);
+  if (chord) regimes = sys.ContactRegimes(x, s.omega, a);
   auto finish = [&](BoundStatus status, const std::string& message) {
     out.x = x;
     out.alpha = a;
@@ -155,7 +155,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
       bool solved = false;
       x_new = x;
       if (chord && ChordSolve(at, *lu, newton, &x_new)) {
-        regimes_new = Regimes(sys, x_new, s.omega, a_new);
+        regimes_new = sys.ContactRegimes(x_new, s.omega, a_new);
         solved = regimes_new == regimes &&
                  value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new);
       }
@@ -182,7 +182,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     g = g_new;
     phi = phi_new;
     std::swap(lu, lu_new);
-    if (chord) regimes = regimes_new.empty() ? Regimes(sys, x, s.omega, a) : regimes_new;
+    if (chord) regimes = regimes_new.empty() ? sys.ContactRegimes(x, s.omega, a) : regimes_new;
     quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
     if (quiet >= 3) {
       return finish(BoundStatus::kConverged, "reduced space: objective stationary");

@@ -11,6 +11,13 @@ namespace fricrom {
 
 std::unique_ptr<HarmonicBalance> HarmonicBalance::WithFewerHarmonics(int) const { return nullptr; }
 
+std::vector<ContactRegime> HarmonicBalance::ContactRegimes(const Eigen::VectorXd& x, double omega,
+                                                           const Eigen::VectorXd& alpha) const {
+  std::vector<ContactRegime> out;
+  for (const ContactHistory& h : ContactHistories(x, omega, alpha)) out.push_back(h.regime);
+  return out;
+}
+
 std::unique_ptr<JacobianOperator> HarmonicBalance::Linearize(
     const Eigen::VectorXd& /*x*/, double /*omega*/, const Eigen::VectorXd& /*alpha*/) const {
   return nullptr;

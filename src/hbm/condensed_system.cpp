@@ -408,6 +408,16 @@ std::vector<ContactHistory> CondensedSystem::ContactHistories(const Eigen::Vecto
   return full_->ContactHistories(Recover(x, omega, alpha), omega, alpha);
 }
 
+std::vector<ContactRegime> CondensedSystem::ContactRegimes(const Eigen::VectorXd& x,
+                                                           double /*omega*/,
+                                                           const Eigen::VectorXd& alpha) const {
+  CheckInputs(x, alpha);
+  ContactForces(x, alpha, AftDerivatives{});
+  std::vector<ContactRegime> out;
+  for (const ContactForceBlocks& b : blocks_) out.push_back(ClassifyRegime(b.law.states));
+  return out;
+}
+
 CycleEnergy CondensedSystem::Energies(const Eigen::VectorXd& x, double omega,
                                       const Eigen::VectorXd& alpha) const {
   return full_->Energies(Recover(x, omega, alpha), omega, alpha);

@@ -193,6 +193,28 @@ TEST(Condensed, MatrixFreeJacobianEqualsTheDenseJacobian) {
   }
 }
 
+// Regimes from the condensed unknowns equal those of the recovered histories at solutions, in
+// every regime the light-preload baseline reaches.
+TEST(Condensed, RegimesFromTheUnknownsEqualTheHistories) {
+  CondensedSystem cond(testing::LoadBaseline({{"F0_ref", 15.0}}).model, HbmOptions{1, 128});
+  std::set<ContactRegime> seen;
+  for (double f : {240.0, 266.0, 285.0}) {
+    for (const Eigen::Vector4d& alpha :
+         {Eigen::Vector4d(0.2, -0.4, 0.6, -0.1), Eigen::Vector4d(1.0, -1.0, 0.0, 0.9)}) {
+      const FrfPoint sol = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+      ASSERT_EQ(sol.status, SolverStatus::kConverged);
+      const std::vector<ContactRegime> fast = cond.ContactRegimes(sol.x, kTwoPi * f, alpha);
+      const std::vector<ContactHistory> hist = cond.ContactHistories(sol.x, kTwoPi * f, alpha);
+      ASSERT_EQ(fast.size(), hist.size());
+      for (size_t c = 0; c < fast.size(); ++c) {
+        EXPECT_EQ(fast[c], hist[c].regime) << f << " Hz, contact " << c;
+        seen.insert(fast[c]);
+      }
+    }
+  }
+  EXPECT_GE(seen.size(), 2u);
+}
+
 // Energy balance at converged condensed solutions: excitation work = viscous + friction.
 TEST(Condensed, EnergyBalanceAtConvergedSolutions) {
   const Pair p = Baseline();
