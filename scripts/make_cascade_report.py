@@ -7,7 +7,8 @@ Usage:
 
 Reads from --dir: fe_modes.json, fe_bounds.json, lump.json, lumped_modes.json,
 lumped_bounds.json (outputs of `fricrom modes|bounds|lump --json`; the bounds are curves or single
-frequencies), fe_noa.json (`fricrom noa --json`, optional), gamma_study/gamma_study.json
+frequencies), fe_verify.json (`fricrom verify --json`, optional), fe_noa.json (`fricrom noa
+--json`, optional), gamma_study/gamma_study.json
 (scripts/gamma_study.py, optional) and timings.json ({step: seconds}). Exit status 0, or 2 on a
 missing or malformed file.
 """
@@ -44,6 +45,22 @@ def curve_section(fb, lb):
                    f"{num(a['R'], '{:.4f}')} | {a['point_wall_s']:.1f} | {num(b['y_min'])} | "
                    f"{num(b['y_max'])} | {num(b['R'], '{:.4f}')} |")
     return out
+
+
+def verify_section(d):
+    """The certification of the FE bounds by alpha sampling, when the main job ran it."""
+    path = os.path.join(d, "fe_verify.json")
+    if not os.path.exists(path):
+        return []
+    v = load(d, "fe_verify.json")
+    s = v["sampling"]
+    verdict = "certified" if v["certified"] else "NOT certified: " + "; ".join(v["not_certified_because"])
+    return ["", f"## Certification of the FE bounds at {v['freq_hz']:g} Hz", "",
+            f"`fricrom verify` (bounds with a 200-sample check, then {s['samples']} random per-pair alpha "
+            f"samples, no time integration): bounds [{num(v['y_min'])}, {num(v['y_max'])}] m; "
+            f"{s['converged']} of {s['samples']} samples solved ({s['failed']} failed), {s['inside']} inside, "
+            f"{s['outside']} outside, sampled range [{num(s['sampled_min'])}, {num(s['sampled_max'])}] m; "
+            f"**{verdict}** ({v['wall_s']:.1f} s)."]
 
 
 def design_section(d):
@@ -110,6 +127,7 @@ def main():
         "![contact-state map at the bounds](figures/contact_map.png)", "",
         "Step wall times [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in sorted(t.items())) + "."]
     out += curve_section(fb, lb)
+    out += verify_section(d)
     out += design_section(d)
     tmp = args["--out"] + ".tmp"
     with open(tmp, "w") as f:
