@@ -45,6 +45,60 @@ bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const Ne
   return norm <= o.residual_tolerance;
 }
 
+// φ and the reduced gradient at a solution (x, a) by one adjoint solve (∂R/∂x)ᵀ λ = ∂φ/∂x.
+// Large systems (`krylov_ok`) first try GMRES preconditioned with `previous`, the factorised
+// (∂R/∂x)ᵀ of an earlier point (nearby points differ in a few contacts' blocks); else a new LU.
+// *lu receives the factorisation used.
+bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& a, const std::shared_ptr<const dense::Lu>& previous,
+                      double* phi, Eigen::VectorXd* g, std::shared_ptr<const dense::Lu>* lu) {
+  // The amplitude objective needs no ∂R/∂x of its own: with an earlier LU to precondition,
+  // the adjoint GMRES runs on the matrix-free Jacobian and the dense one is formed only
+  // if it misses (the loss factor's gradient reads the dense Jacobian).
+  const bool krylov = krylov_ok && previous;
+  const std::unique_ptr<JacobianOperator> op = krylov && s.objective != BoundsOptions::kLossFactor
+                                                   ? s.system->Linearize(x, s.omega, a)
+                                                   : nullptr;
+  HbmEvaluation e;
+  HbmRequest req;
+  req.alpha_jacobian = true;
+  req.jacobian = op == nullptr;
+  s.system->Evaluate(x, s.omega, a, req, &e);
+  Eigen::VectorXd gx, ga, lambda;
+  *phi = Objective(s, x, a, e, &gx, &ga);
+  bool solved = false;
+  if (op) {
+    const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+      op->Apply(v, true, out);
+    };
+    solved = dense::PreconditionedGmres(apply, *previous, false, gx, kAdjointTolerance,
+                                        kAdjointProducts, &lambda)
+                 .converged;
+    if (!solved) {
+      req.alpha_jacobian = false;
+      req.jacobian = true;
+      HbmEvaluation ej;
+      s.system->Evaluate(x, s.omega, a, req, &ej);
+      e.jacobian = std::move(ej.jacobian);
+    }
+  } else if (krylov) {
+    solved = dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
+                                        kAdjointProducts, &lambda)
+                 .converged;
+  }
+  if (solved) {
+    *lu = previous;
+  } else {
+    auto fresh = std::make_shared<dense::Lu>();
+    fresh->ComputeTransposed(e.jacobian);
+    if (!(fresh->rcond() > 1e-14)) return false;
+    lambda = fresh->Solve(gx);
+    *lu = std::move(fresh);
+  }
+  *g = ga - e.alpha_jacobian.transpose() * lambda;
+  return g->allFinite();
+}
+
 }  // namespace
 
 // Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
@@ -58,60 +112,11 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   // Chord steps and reused factorisations pay off where an LU is dear; small (lumped) systems
   // keep plain Newton and a new LU per point.
   const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
-  // φ and the reduced gradient at a solution (x, a) by one adjoint solve (∂R/∂x)ᵀ λ = ∂φ/∂x.
-  // Large systems first try GMRES preconditioned with `previous`, the factorised (∂R/∂x)ᵀ of an
-  // earlier point (nearby points differ in a few contacts' blocks); else a new LU. *lu receives
-  // the factorisation used.
-  auto value_and_gradient = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi,
-                                Eigen::VectorXd* g,
-                                const std::shared_ptr<const dense::Lu>& previous,
-                                std::shared_ptr<const dense::Lu>* lu) {
-    // The amplitude objective needs no ∂R/∂x of its own: with an earlier LU to precondition,
-    // the adjoint GMRES runs on the matrix-free Jacobian and the dense one is formed only
-    // if it misses (the loss factor's gradient reads the dense Jacobian).
-    const bool krylov = chord && previous;
-    const std::unique_ptr<JacobianOperator> op = krylov && s.objective != BoundsOptions::kLossFactor
-                                                     ? sys.Linearize(x, s.omega, a)
-                                                     : nullptr;
-    HbmEvaluation e;
-    HbmRequest req;
-    req.alpha_jacobian = true;
-    req.jacobian = op == nullptr;
-    sys.Evaluate(x, s.omega, a, req, &e);
-    Eigen::VectorXd gx, ga, lambda;
-    *phi = Objective(s, x, a, e, &gx, &ga);
-    bool solved = false;
-    if (op) {
-      const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-        op->Apply(v, true, out);
+  auto value_and_gradient =
+      [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
+          const std::shared_ptr<const dense::Lu>& previous, std::shared_ptr<const dense::Lu>* lu) {
+        return ValueAndGradient(s, chord, x, a, previous, phi, g, lu);
       };
-      solved = dense::PreconditionedGmres(apply, *previous, false, gx, kAdjointTolerance,
-                                          kAdjointProducts, &lambda)
-                   .converged;
-      if (!solved) {
-        req.alpha_jacobian = false;
-        req.jacobian = true;
-        HbmEvaluation ej;
-        sys.Evaluate(x, s.omega, a, req, &ej);
-        e.jacobian = std::move(ej.jacobian);
-      }
-    } else if (krylov) {
-      solved = dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
-                                          kAdjointProducts, &lambda)
-                   .converged;
-    }
-    if (solved) {
-      *lu = previous;
-    } else {
-      auto fresh = std::make_shared<dense::Lu>();
-      fresh->ComputeTransposed(e.jacobian);
-      if (!(fresh->rcond() > 1e-14)) return false;
-      lambda = fresh->Solve(gx);
-      *lu = std::move(fresh);
-    }
-    *g = ga - e.alpha_jacobian.transpose() * lambda;
-    return g->allFinite();
-  };
   Eigen::VectorXd x = x0, a = a0, g;
   double phi = 0.0;
   std::shared_ptr<const dense::Lu> lu, lu_new;

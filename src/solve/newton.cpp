@@ -72,6 +72,68 @@ bool KrylovStep(const dense::LinearMap& apply, const Eigen::VectorXd& r,
   return g.converged;
 }
 
+// The linear part of a Newton iteration: J dx = −r by GMRES with a reused LU where allowed (on
+// the system's matrix-free Jacobian if it offers one), else by a new LU, which then becomes the
+// preconditioner. Holds the last Jacobian and LU between iterations.
+class NewtonStepper {
+ public:
+  NewtonStepper(const SquareSystem& system, const NewtonOptions& options,
+                NewtonPreconditioner initial)
+      : system_(system), options_(options), preconditioner_(initial) {}
+
+  // x moved: the Jacobian held is stale.
+  void Moved() { jacobian_current_ = false; }
+
+  // The step at x (residual *r, which a Jacobian evaluation refreshes); false with the
+  // summary's status set when the Jacobian is singular.
+  bool Step(const Eigen::VectorXd& x, double forcing, Eigen::VectorXd* r, Eigen::VectorXd* dx,
+            NewtonSummary* summary) {
+    const bool krylov = KrylovAllowed(options_, preconditioner_, system_.size());
+    bool stepped = false, tried = false;
+    if (!jacobian_current_ && krylov) {
+      // Matrix-free products where the system offers them: no dense Jacobian unless GMRES misses.
+      if (const std::unique_ptr<JacobianOperator> op = system_.Linearize(x)) {
+        const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+          op->Apply(v, false, out);
+        };
+        tried = true;
+        stepped = KrylovStep(apply, *r, options_, preconditioner_, forcing, dx, summary);
+      }
+    }
+    if (stepped) return true;
+    if (!jacobian_current_) {
+      system_.Evaluate(x, r, &j_);
+      ++summary->evaluations;
+      jacobian_current_ = true;
+    }
+    if (!tried && krylov) {
+      const dense::LinearMap apply = [this](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+        out->noalias() = j_ * v;
+      };
+      if (KrylovStep(apply, *r, options_, preconditioner_, forcing, dx, summary)) return true;
+    }
+    lu_.emplace(j_);
+    preconditioner_ = NewtonPreconditioner{&*lu_, false};
+    ++summary->factorizations;
+    const double rcond = lu_->rcond();
+    if (!(rcond > 1e-15)) {
+      summary->status = SolverStatus::kSingular;
+      summary->message = "Jacobian reciprocal condition " + std::to_string(rcond);
+      return false;
+    }
+    *dx = -lu_->Solve(*r);
+    return true;
+  }
+
+ private:
+  const SquareSystem& system_;
+  const NewtonOptions& options_;
+  NewtonPreconditioner preconditioner_;
+  Eigen::MatrixXd j_;
+  bool jacobian_current_ = false;
+  std::optional<dense::Lu> lu_;  // the last Jacobian factorised here
+};
+
 }  // namespace
 
 NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& options,
@@ -90,12 +152,10 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
   NewtonSummary summary;
   const double scale = system.ResidualScale();
   Eigen::VectorXd r, r_trial, x_trial;
-  Eigen::MatrixXd j;
-  std::optional<dense::Lu> lu;  // the last Jacobian factorised here
-  double previous_norm = 0.0;
   // The Jacobian is evaluated only where a step is taken: a solve that starts or lands within
   // the tolerance pays no Jacobian there (warm-started solves of the bound optimiser).
-  bool jacobian_current = false;
+  NewtonStepper stepper(system, options, preconditioner);
+  double previous_norm = 0.0;
   system.Evaluate(*x, &r, nullptr);
   ++summary.evaluations;
   double norm = r.norm() / scale;
@@ -120,40 +180,7 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
     // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in.
     const double ratio = previous_norm > 0.0 ? norm / previous_norm : 1.0;
     const double forcing = std::clamp(0.9 * ratio * ratio, options.krylov_tolerance, 0.1);
-    bool stepped = false, tried = false;
-    if (!jacobian_current && KrylovAllowed(options, preconditioner, system.size())) {
-      // Matrix-free products where the system offers them: no dense Jacobian unless GMRES misses.
-      if (const std::unique_ptr<JacobianOperator> op = system.Linearize(*x)) {
-        const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-          op->Apply(v, false, out);
-        };
-        tried = true;
-        stepped = KrylovStep(apply, r, options, preconditioner, forcing, &dx, &summary);
-      }
-    }
-    if (!stepped && !jacobian_current) {
-      system.Evaluate(*x, &r, &j);
-      ++summary.evaluations;
-      jacobian_current = true;
-    }
-    if (!stepped && !tried && KrylovAllowed(options, preconditioner, system.size())) {
-      const dense::LinearMap apply = [&j](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-        out->noalias() = j * v;
-      };
-      stepped = KrylovStep(apply, r, options, preconditioner, forcing, &dx, &summary);
-    }
-    if (!stepped) {
-      lu.emplace(j);
-      preconditioner = NewtonPreconditioner{&*lu, false};
-      ++summary.factorizations;
-      const double rcond = lu->rcond();
-      if (!(rcond > 1e-15)) {
-        summary.status = SolverStatus::kSingular;
-        summary.message = "Jacobian reciprocal condition " + std::to_string(rcond);
-        return summary;
-      }
-      dx = -lu->Solve(r);
-    }
+    if (!stepper.Step(*x, forcing, &r, &dx, &summary)) return summary;
     if (!dx.allFinite()) {
       summary.status = SolverStatus::kSingular;
       summary.message = "non-finite Newton step";
@@ -202,7 +229,7 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
     const double step = t * dx.norm();
     x->swap(x_trial);  // x + t dx, whose residual the line search evaluated
     r.swap(r_trial);
-    jacobian_current = false;
+    stepper.Moved();
     norm = r.norm() / scale;
     summary.final_residual = norm;
     if (!std::isfinite(norm) || norm > options.divergence_factor * summary.initial_residual) {
