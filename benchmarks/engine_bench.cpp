@@ -2,8 +2,10 @@
 // they were measured on are recorded in benchmarks/README.md (scripts/run_benchmarks.sh).
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <numbers>
 
+#include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
@@ -94,4 +96,13 @@ BENCHMARK(BM_FrfContinuation)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// One BLAS thread unless OPENBLAS_NUM_THREADS says otherwise: the CLI's setting for its
+// harmonic-balance commands (fricrom/blas_threads.h), so the figures are the ones users get.
+int main(int argc, char** argv) {
+  if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) fricrom::SetBlasThreads(1);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -89,10 +89,19 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
   if (solved) {
     *lu = previous;
   } else {
+    // A new factorisation: single precision on large systems (it serves mostly as the next
+    // preconditioner), with GMRES restoring double accuracy; double if that misses.
     auto fresh = std::make_shared<dense::Lu>();
-    fresh->ComputeTransposed(e.jacobian);
+    fresh->ComputeTransposed(e.jacobian,
+                             krylov_ok ? dense::LuPrecision::kSingle : dense::LuPrecision::kDouble);
+    if (!fresh->exact()) {
+      solved = dense::PreconditionedGmres(e.jacobian, true, *fresh, false, gx, kAdjointTolerance,
+                                          kAdjointProducts, &lambda)
+                   .converged;
+      if (!solved) fresh->ComputeTransposed(e.jacobian);
+    }
     if (!(fresh->rcond() > 1e-14)) return false;
-    lambda = fresh->Solve(gx);
+    if (!solved) lambda = fresh->Solve(gx);
     *lu = std::move(fresh);
   }
   *g = ga - e.alpha_jacobian.transpose() * lambda;

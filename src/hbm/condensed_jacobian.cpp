@@ -50,7 +50,8 @@ class CondensedJacobian final : public JacobianOperator {
     for (int h = 0; h <= d_.harmonics; ++h) {
       const int j0 = FirstCoefficient(h), m = NumCoefficients(h);
       const Eigen::Map<const Eigen::VectorXd> qs(q.col(j0).data(), m * nr);  // stacked (j0, j0+1)
-      const Eigen::VectorXd gq = d_.receptance->G(h) * qs;
+      Eigen::VectorXd gq;
+      d_.receptance->GTimes(h, qs, false, &gq);
       const Eigen::VectorXd pq = d_.receptance->DofPRows(h) * qs;
       for (int jj = 0; jj < m; ++jj) {
         const int j = j0 + jj;
@@ -74,7 +75,9 @@ class CondensedJacobian final : public JacobianOperator {
       }
       const Eigen::Map<const Eigen::VectorXd> srs(sr.data(), m * nr);
       Eigen::Map<Eigen::VectorXd> ts(t.col(j0).data(), m * nr);
-      ts.noalias() = d_.receptance->G(h).transpose() * srs;
+      Eigen::VectorXd gs;
+      d_.receptance->GTimes(h, srs, true, &gs);
+      ts = gs;
       ts.noalias() += d_.receptance->DofPRows(h).transpose() * sy.head(m);
     }
     out->resize(v.size());

@@ -282,7 +282,9 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
     // x̃_h = Z̃_h⁻¹ (f_h − B_hᵀ F̃_h): only its relative part and the response are needed here,
     // both from per-ω quantities (the full x̃_h only for ∂/∂ω).
     const Eigen::VectorXd fs = Stack(h, ft);
-    const Eigen::VectorXd bx = receptance_->LoadRelative(h) - g * fs;
+    Eigen::VectorXd bx;
+    receptance_->GTimes(h, fs, false, &bx);
+    bx = receptance_->LoadRelative(h) - bx;
     Eigen::VectorXd y(m);  // response coefficients
     for (int jj = 0; jj < m; ++jj) {
       y[jj] = receptance_->LoadResponse(h)[jj * n + resp] - pr.row(jj).dot(fs);

@@ -18,17 +18,32 @@ inline constexpr Eigen::Index kLapackMinSize = 96;
 Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen::MatrixXd& b,
                         bool transpose_b);
 
+// y = op(a) x through dgemv (zgemv for complex a; op(a) = aᴴ then) for large operands: OpenBLAS'
+// kernels use the CPU's vector units, Eigen's only the baseline ISA (products of GMRES steps).
+void MatVec(const Eigen::MatrixXd& a, bool transpose, const Eigen::VectorXd& x, Eigen::VectorXd* y);
+void MatVec(const Eigen::MatrixXcd& a, bool adjoint, const Eigen::VectorXcd& x,
+            Eigen::VectorXcd* y);
+
 // LU with partial pivoting of a square matrix: dgetrf/dgecon/dgetrs, or Eigen below the size.
 // Unit columns (a(:, t) = d_t e_t, e.g. the unknowns of fully stuck contacts in the condensed
 // balance, on which no force depends) are eliminated exactly before the factorisation, so the
 // cost is that of the remaining block.
+// Single precision (LAPACK route only; Eigen's below the size stays double) halves the time and
+// memory of the factorisation and of each solve. Its solves are accurate to ~1e-7 · cond, so it
+// serves as a preconditioner (GMRES restores double accuracy), never as an exact solver.
+enum class LuPrecision { kDouble, kSingle };
+
 class Lu {
  public:
   Lu() = default;
-  explicit Lu(const Eigen::MatrixXd& a) { Compute(a); }
-  void Compute(const Eigen::MatrixXd& a);
+  explicit Lu(const Eigen::MatrixXd& a, LuPrecision precision = LuPrecision::kDouble) {
+    Compute(a, precision);
+  }
+  void Compute(const Eigen::MatrixXd& a, LuPrecision precision = LuPrecision::kDouble);
   // Factorises aᵀ (without forming it where the LAPACK route can solve with a instead).
-  void ComputeTransposed(const Eigen::MatrixXd& a);
+  void ComputeTransposed(const Eigen::MatrixXd& a, LuPrecision precision = LuPrecision::kDouble);
+  // True when Solve is exact to double round-off (not a single-precision factorisation).
+  bool exact() const { return !single_; }
   // Estimate of the reciprocal condition number in the 1-norm (0 when exactly singular).
   double rcond() const { return rcond_; }
   Eigen::Index rows() const { return n_; }
@@ -39,15 +54,20 @@ class Lu {
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, bool transposed = false) const;
 
  private:
-  void Factor(const Eigen::MatrixXd& a, bool transposed);
+  void Factor(const Eigen::MatrixXd& a, bool transposed, LuPrecision precision);
+  // dgetrf/dgecon (or sgetrf/sgecon) of factors_; false if exactly singular or not finite.
+  bool FactorActive(double* rcond_active);
   Eigen::MatrixXd SolveActive(Eigen::MatrixXd b, bool transposed) const;
+  Eigen::MatrixXd CouplingTimes(const Eigen::MatrixXd& v, bool transposed) const;
 
   Eigen::Index n_ = 0;
   bool lapack_ = false;
   bool transposed_ = false;
+  bool single_ = false;  // factors in factors_single_
   std::vector<Eigen::Index> active_, unit_;
   Eigen::VectorXd unit_diag_;
   Eigen::MatrixXd factors_, coupling_;  // LU of a(A, A); a(T, A)
+  Eigen::MatrixXf factors_single_, coupling_single_;
   std::vector<int> pivots_;
   Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
   double rcond_ = 0.0;

@@ -69,7 +69,36 @@ void HarmonicReceptance::SetFrequency(double omega) {
     SetFrequencyDense(omega);
   }
   omega_ = omega;
+  SetComplexForms();
   UpdateFixedLoads();
+}
+
+void HarmonicReceptance::SetComplexForms() {
+  const int nr = num_relative();
+  g_complex_.resize(harmonics_ + 1);
+  for (int h = 1; h <= harmonics_; ++h) {
+    g_complex_[h].resize(nr, nr);
+    g_complex_[h].real() = g_[h].topLeftCorner(nr, nr);
+    g_complex_[h].imag() = g_[h].topRightCorner(nr, nr);
+  }
+}
+
+void HarmonicReceptance::GTimes(int h, const Eigen::VectorXd& v, bool transposed,
+                                Eigen::VectorXd* out) const {
+  const int nr = num_relative();
+  if (h == 0) {
+    dense::MatVec(g_[0], transposed, v, out);
+    return;
+  }
+  // [[A, B], [−B, A]] [c; s] = [p; q]  <=>  (A + iB)(c − is) = p − iq; the transpose is Ĝᴴ.
+  const Eigen::VectorXcd z =
+      v.head(nr).cast<std::complex<double>>() -
+      std::complex<double>(0.0, 1.0) * v.tail(nr).cast<std::complex<double>>();
+  Eigen::VectorXcd w;
+  dense::MatVec(g_complex_[h], transposed, z, &w);
+  out->resize(2 * nr);
+  out->head(nr) = w.real();
+  out->tail(nr) = -w.imag();
 }
 
 void HarmonicReceptance::SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof) {

@@ -82,43 +82,32 @@ class NewtonStepper {
       : system_(system), options_(options), preconditioner_(initial) {}
 
   // x moved: the Jacobian held is stale.
-  void Moved() { jacobian_current_ = false; }
+  void Moved() {
+    jacobian_current_ = false;
+    operator_.reset();
+  }
 
   // The step at x (residual *r, which a Jacobian evaluation refreshes); false with the
   // summary's status set when the Jacobian is singular.
   bool Step(const Eigen::VectorXd& x, double forcing, Eigen::VectorXd* r, Eigen::VectorXd* dx,
             NewtonSummary* summary) {
-    const bool krylov = KrylovAllowed(options_, preconditioner_, system_.size());
-    bool stepped = false, tried = false;
-    if (!jacobian_current_ && krylov) {
+    const bool large = options_.krylov_min_size > 0 && system_.size() >= options_.krylov_min_size;
+    if (large && KrylovAllowed(options_, preconditioner_, system_.size())) {
       // Matrix-free products where the system offers them: no dense Jacobian unless GMRES misses.
-      if (const std::unique_ptr<JacobianOperator> op = system_.Linearize(x)) {
-        const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-          op->Apply(v, false, out);
-        };
-        tried = true;
-        stepped = KrylovStep(apply, *r, options_, preconditioner_, forcing, dx, summary);
-      }
+      if (!jacobian_current_ && !operator_) operator_ = system_.Linearize(x);
+      if (!operator_) EvaluateJacobian(x, r, summary);
+      if (Krylov(*r, forcing, dx, summary)) return true;
     }
-    if (stepped) return true;
-    if (!jacobian_current_) {
-      system_.Evaluate(x, r, &j_);
-      ++summary->evaluations;
-      jacobian_current_ = true;
+    EvaluateJacobian(x, r, summary);
+    // Large systems factorise in single precision (half the time and memory) and solve by GMRES
+    // with it, which restores double accuracy in a few products; a double LU if that misses.
+    if (large && Factorize(dense::LuPrecision::kSingle, summary) &&
+        lu_->rcond() > kSinglePrecisionRcond && Krylov(*r, forcing, dx, summary)) {
+      return true;
     }
-    if (!tried && krylov) {
-      const dense::LinearMap apply = [this](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-        out->noalias() = j_ * v;
-      };
-      if (KrylovStep(apply, *r, options_, preconditioner_, forcing, dx, summary)) return true;
-    }
-    lu_.emplace(j_);
-    preconditioner_ = NewtonPreconditioner{&*lu_, false};
-    ++summary->factorizations;
-    const double rcond = lu_->rcond();
-    if (!(rcond > 1e-15)) {
+    if (!Factorize(dense::LuPrecision::kDouble, summary)) {
       summary->status = SolverStatus::kSingular;
-      summary->message = "Jacobian reciprocal condition " + std::to_string(rcond);
+      summary->message = "Jacobian reciprocal condition " + std::to_string(lu_->rcond());
       return false;
     }
     *dx = -lu_->Solve(*r);
@@ -126,12 +115,44 @@ class NewtonStepper {
   }
 
  private:
+  // Below this reciprocal condition a single-precision LU preconditions poorly.
+  static constexpr double kSinglePrecisionRcond = 1e-5;
+
+  void EvaluateJacobian(const Eigen::VectorXd& x, Eigen::VectorXd* r, NewtonSummary* summary) {
+    if (jacobian_current_) return;
+    system_.Evaluate(x, r, &j_);
+    ++summary->evaluations;
+    jacobian_current_ = true;
+  }
+
+  // J dx = −r by GMRES preconditioned with the held LU, J applied matrix-free if offered.
+  bool Krylov(const Eigen::VectorXd& r, double forcing, Eigen::VectorXd* dx,
+              NewtonSummary* summary) {
+    const dense::LinearMap apply = [this](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+      if (operator_) {
+        operator_->Apply(v, false, out);
+      } else {
+        out->noalias() = j_ * v;
+      }
+    };
+    return KrylovStep(apply, r, options_, preconditioner_, forcing, dx, summary);
+  }
+
+  // LU of j_ becomes the preconditioner; false if singular.
+  bool Factorize(dense::LuPrecision precision, NewtonSummary* summary) {
+    lu_.emplace(j_, precision);
+    preconditioner_ = NewtonPreconditioner{&*lu_, false};
+    ++summary->factorizations;
+    return lu_->rcond() > 1e-15;
+  }
+
   const SquareSystem& system_;
   const NewtonOptions& options_;
   NewtonPreconditioner preconditioner_;
   Eigen::MatrixXd j_;
   bool jacobian_current_ = false;
-  std::optional<dense::Lu> lu_;  // the last Jacobian factorised here
+  std::unique_ptr<JacobianOperator> operator_;  // the matrix-free Jacobian at x, if offered
+  std::optional<dense::Lu> lu_;                 // the last Jacobian factorised here
 };
 
 }  // namespace

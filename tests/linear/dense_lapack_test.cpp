@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <complex>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -33,6 +34,65 @@ TEST_P(DenseLapackSizes, LuSolvesAndTransposedSolves) {
                               a.inverse().cwiseAbs().colwise().sum().maxCoeff());
   EXPECT_GT(lu.rcond(), 0.1 * exact);
   EXPECT_LT(lu.rcond(), 10.0 * exact);
+}
+
+// Single precision: LAPACK-sized solves accurate to float round-off (not double), flagged
+// inexact; below the size Eigen's double LU is kept (exact). Unit columns are eliminated exactly
+// in both precisions.
+TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
+  const int n = GetParam();
+  Eigen::MatrixXd a = Random(n, n, 3) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  a.col(2).setZero();
+  a(2, 2) = 4.0;  // a unit column
+  const Eigen::MatrixXd b = Random(n, 2, 4);
+  for (const bool transposed : {false, true}) {
+    Lu lu;
+    if (transposed) {
+      lu.ComputeTransposed(a, LuPrecision::kSingle);
+    } else {
+      lu.Compute(a, LuPrecision::kSingle);
+    }
+    const Eigen::MatrixXd op = transposed ? Eigen::MatrixXd(a.transpose()) : a;
+    const bool lapack = n >= kLapackMinSize;
+    EXPECT_EQ(lu.exact(), !lapack);
+    const double tol = lapack ? 1e-5 : 1e-12;
+    EXPECT_LT((op * lu.Solve(b) - b).norm(), tol * b.norm() * a.norm());
+    EXPECT_LT((op.transpose() * lu.Solve(b, true) - b).norm(), tol * b.norm() * a.norm());
+    const Eigen::VectorXd v = b.col(1);
+    const double err = (op * lu.Solve(v) - v).norm() / (v.norm() * a.norm());
+    EXPECT_LT(err, tol);
+    if (lapack) {
+      EXPECT_GT(err, 1e-14);  // really single precision
+    }
+    EXPECT_GT(lu.rcond(), 1e-3);
+  }
+  // A double factorisation after a single one is exact again.
+  Lu lu(a, LuPrecision::kSingle);
+  lu.Compute(a);
+  EXPECT_TRUE(lu.exact());
+  EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
+}
+
+TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
+  const int n = GetParam();
+  const Eigen::MatrixXd a = Random(n, n + 5, 8);
+  const Eigen::VectorXd x = Random(n + 5, 1, 9), xt = Random(n, 1, 10);
+  Eigen::VectorXd y;
+  MatVec(a, false, x, &y);
+  EXPECT_LT((y - a * x).norm(), 1e-13 * (a * x).norm());
+  MatVec(a, true, xt, &y);
+  EXPECT_LT((y - a.transpose() * xt).norm(), 1e-13 * (a.transpose() * xt).norm());
+  Eigen::MatrixXcd c(n, n + 5);
+  c.real() = a;
+  c.imag() = Random(n, n + 5, 11);
+  const Eigen::VectorXcd z = x.cast<std::complex<double>>() * std::complex<double>(0.3, -1.0);
+  const Eigen::VectorXcd zt = xt.cast<std::complex<double>>() * std::complex<double>(2.0, 0.5);
+  Eigen::VectorXcd w;
+  MatVec(c, false, z, &w);
+  EXPECT_LT((w - c * z).norm(), 1e-13 * (c * z).norm());
+  MatVec(c, true, zt, &w);
+  EXPECT_LT((w - c.adjoint() * zt).norm(), 1e-13 * (c.adjoint() * zt).norm());
+  EXPECT_THROW(MatVec(a, false, xt, &y), std::invalid_argument);
 }
 
 TEST_P(DenseLapackSizes, SingularMatrixHasZeroOrTinyRcond) {

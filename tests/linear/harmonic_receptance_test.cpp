@@ -70,6 +70,25 @@ TEST(HarmonicReceptance, LapackSizedModalEqualsDense) {
   }
 }
 
+// GTimes (complex form for h ≥ 1, BLAS) equals the product with G_h and its transpose, in both
+// routes and with non-proportional damping (the structure [[A, B], [−B, A]] holds for any C).
+TEST(HarmonicReceptance, GTimesEqualsTheRealBlockProduct) {
+  const Matrices s = MakeSystem(130, 50);
+  const Eigen::MatrixXd c = 2e-5 * s.k + 1e-3 * Eigen::MatrixXd::Identity(130, 130);
+  for (const ReceptanceMethod method : {ReceptanceMethod::kDense, ReceptanceMethod::kModal}) {
+    HarmonicReceptance r(s.k, s.m, c, s.b, 3, method);
+    r.SetFrequency(1800.0);
+    for (int h = 0; h <= 3; ++h) {
+      const Eigen::VectorXd v = Eigen::VectorXd::Random(r.G(h).cols());
+      Eigen::VectorXd out;
+      r.GTimes(h, v, false, &out);
+      EXPECT_LT(RelDiff(out, r.G(h) * v), 1e-13) << "h " << h;
+      r.GTimes(h, v, true, &out);
+      EXPECT_LT(RelDiff(out, r.G(h).transpose() * v), 1e-13) << "h " << h;
+    }
+  }
+}
+
 TEST(HarmonicReceptance, FixedLoadResponsesFollowTheFrequency) {
   // The per-ω cache equals fresh solves, also after the loads are set before any frequency and
   // after a change of frequency.
