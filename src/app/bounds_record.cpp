@@ -119,6 +119,7 @@ json BoundsRecord(const BoundsResult& b) {
           {"min_failures", b.min_failures},
           {"max_failures", b.max_failures},
           {"optimizer_runs", b.optimizer_runs},
+          {"runs_abandoned", b.runs_abandoned},
           {"samples_checked", b.samples_checked},
           {"samples_failed", b.samples_failed},
           {"improved_by_samples", b.improved_by_samples},
@@ -143,6 +144,7 @@ BoundsResult BoundsFromRecord(const json& j) {
   b.min_failures = ReadInt(j, "min_failures");
   b.max_failures = ReadInt(j, "max_failures");
   b.optimizer_runs = ReadInt(j, "optimizer_runs");
+  b.runs_abandoned = ReadInt(j, "runs_abandoned");
   b.samples_checked = ReadInt(j, "samples_checked");
   b.samples_failed = ReadInt(j, "samples_failed");
   b.improved_by_samples = ReadInt(j, "improved_by_samples");

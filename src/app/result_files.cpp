@@ -87,6 +87,7 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["seeds_tried"] = b.seeds_tried;
   j["seeds_converged"] = b.seeds_converged;
   j["optimizer_runs"] = b.optimizer_runs;
+  j["runs_abandoned"] = b.runs_abandoned;
   j["seeds"] = {{"tried", b.seeds_tried},
                 {"base", b.seed_counts.base},
                 {"interface_patterns", b.seed_counts.group_patterns},

@@ -1,6 +1,7 @@
 // Shared pieces of the bound runs (bound_runs.h): objective, KKT test at the start, description
 // of a returned point, start solutions.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "fricrom/solve.h"
 #include "fricrom/units.h"
 #include "linear/dense_lapack.h"
+#include "linear/gmres.h"
 
 namespace fricrom::bounds_detail {
 namespace {
@@ -50,28 +52,46 @@ double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::Vecto
 // α direction and points out of the box at an active bound. This is typical on the plateaus of
 // the response over α (contacts that slip or whose first-period force saturates forget α), where
 // the interior-point method would only spend its iterations driving the barrier to zero.
-bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
-                     double tolerance) {
+// The two directions differ only in the sign of φ: one adjoint solve serves both.
+std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0,
+                                    const Eigen::VectorXd& alpha0, double tolerance,
+                                    const std::array<double, 2>& signs) {
+  RunSetup plus = s;
+  plus.sign = 1.0;
   HbmEvaluation e;
   HbmRequest req;
   req.jacobian = req.alpha_jacobian = true;
   s.system->Evaluate(x0, s.omega, alpha0, req, &e);
-  Eigen::VectorXd gx, ga;
-  Objective(s, x0, alpha0, e, &gx, &ga);
+  Eigen::VectorXd gx, ga, lambda;
+  Objective(plus, x0, alpha0, e, &gx, &ga);
+  // Large systems: a single-precision LU and GMRES to double accuracy (half the cost).
+  const bool large = e.jacobian.rows() >= dense::kLapackMinSize;
   dense::Lu lu;
-  lu.ComputeTransposed(e.jacobian);
-  if (!(lu.rcond() > 1e-12)) return false;
-  const Eigen::VectorXd lambda = lu.Solve(gx);
-  const Eigen::VectorXd g = ga - e.alpha_jacobian.transpose() * lambda;
-  if (!g.allFinite()) return false;
-  for (int c = 0; c < g.size(); ++c) {
-    const bool at_upper = alpha0[c] >= 1.0, at_lower = alpha0[c] <= -1.0;
-    // Minimising: at the upper bound the gradient may be negative, at the lower one positive.
-    const bool ok = at_upper ? g[c] <= tolerance
-                             : (at_lower ? g[c] >= -tolerance : std::abs(g[c]) <= tolerance);
-    if (!ok) return false;
+  lu.ComputeTransposed(e.jacobian,
+                       large ? dense::LuPrecision::kSingle : dense::LuPrecision::kDouble);
+  bool solved = false;
+  if (!lu.exact() && lu.rcond() > 1e-6) {
+    solved =
+        dense::PreconditionedGmres(e.jacobian, true, lu, false, gx, 1e-12, 20, &lambda).converged;
   }
-  return true;
+  if (!solved) {
+    if (!lu.exact()) lu.ComputeTransposed(e.jacobian);
+    if (!(lu.rcond() > 1e-12)) return {false, false};
+    lambda = lu.Solve(gx);
+  }
+  const Eigen::VectorXd g_plus = ga - e.alpha_jacobian.transpose() * lambda;
+  if (!g_plus.allFinite()) return {false, false};
+  std::array<bool, 2> kkt{};
+  for (int d = 0; d < 2; ++d) {
+    kkt[d] = true;
+    for (int c = 0; c < g_plus.size() && kkt[d]; ++c) {
+      const double g = signs[d] * g_plus[c];
+      const bool at_upper = alpha0[c] >= 1.0, at_lower = alpha0[c] <= -1.0;
+      // Minimising: at the upper bound the gradient may be negative, at the lower one positive.
+      kkt[d] = at_upper ? g <= tolerance : (at_lower ? g >= -tolerance : std::abs(g) <= tolerance);
+    }
+  }
+  return kkt;
 }
 
 std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -24,6 +26,10 @@ struct RunSetup {
   double stall_tolerance = 1e-9;  // relative objective change that counts as no change
   Eigen::VectorXd x_scale;        // x = x_scale ∘ z
   double residual_scale = 1.0;    // constraints g = R / residual_scale
+  // The best objective (same units: sign·φ/objective_scale) a KKT start already gives in this
+  // run's direction, NaN if none or not to be used: the reduced-space run stops once it cannot
+  // reach it (BoundsOptions::stop_dominated_runs).
+  double incumbent = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,
@@ -33,8 +39,9 @@ double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::Vecto
                  const HbmEvaluation& e, Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha);
 
 // Whether the feasible start (x0, α0) already satisfies the first-order conditions on the box.
-bool StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& alpha0,
-                     double tolerance);
+std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0,
+                                    const Eigen::VectorXd& alpha0, double tolerance,
+                                    const std::array<double, 2>& signs);
 
 std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
                                    double omega, const Eigen::VectorXd& alpha);

@@ -3,6 +3,7 @@
 #include "fricrom/bounds.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -215,6 +216,8 @@ std::string ToString(BoundStatus status) {
       return "max-iterations";
     case BoundStatus::kInfeasible:
       return "infeasible";
+    case BoundStatus::kAbandoned:
+      return "abandoned";
     case BoundStatus::kFailed:
       return "failed";
   }
@@ -243,13 +246,82 @@ std::string BoundsResult::BriefReport() const {
   one("max", max);
   os << "  seeds: " << seeds_tried << " tried, " << seeds_converged << " fully converged, "
      << start_failures << " start failures, " << min_failures << " failed min runs, "
-     << max_failures << " failed max runs, " << optimizer_runs
+     << max_failures << " failed max runs, " << runs_abandoned << " runs abandoned, "
+     << optimizer_runs
      << " optimiser runs (the others started at a KKT point); spread of the optimum over "
      << "seeds: min " << spread_min << ", max " << spread_max
      << "; sample check: " << samples_checked << " samples (" << samples_failed << " failed), "
      << improved_by_samples << " bounds improved";
   return os.str();
 }
+
+namespace {
+
+// A seed's feasible start and what the first-order check said of it, per direction.
+struct SeedStart {
+  bool ok = false;
+  Eigen::VectorXd x0;
+  double objective = 0.0;        // φ at the start: a1² + b1², or η
+  double objective_scale = 1.0;  // the runs' objectives are divided by this
+  bool kkt[2] = {false, false};  // [min response, max response]: start is a KKT point
+};
+
+// Minimum response: min a², or max η; maximum response: max a², or min η.
+double RunSign(const BoundsOptions& options, bool maximise_response) {
+  return (maximise_response == (options.objective == BoundsOptions::kAmplitude)) ? -1.0 : 1.0;
+}
+
+// Phase 1: each seed's start (falling back on the earlier seeds' starts) and its KKT checks.
+std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
+                                  const BoundsOptions& options,
+                                  const std::vector<Eigen::VectorXd>& seeds, RunSetup setup,
+                                  BoundsResult* result) {
+  const double omega = RadPerS(freq_hz);
+  std::vector<SeedStart> out(seeds.size());
+  std::vector<Eigen::VectorXd> starts;
+  for (size_t s = 0; s < seeds.size(); ++s) {
+    SeedStart& st = out[s];
+    if (!StartSolution(system, freq_hz, seeds[s], starts, &st.x0)) {
+      ++result->start_failures;
+      continue;
+    }
+    st.ok = true;
+    starts.push_back(st.x0);
+    if (options.objective == BoundsOptions::kAmplitude) {
+      const double y0 = system.Amplitude(st.x0);
+      st.objective = y0 * y0;
+      st.objective_scale = std::max(y0 * y0, 1e-300);
+    } else {
+      st.objective = system.Energies(st.x0, omega, seeds[s]).loss_factor();
+      st.objective_scale = std::max(std::abs(st.objective), 1e-6);
+    }
+    setup.objective_scale = st.objective_scale;
+    if (system.num_alpha() == 0) {
+      st.kkt[0] = st.kkt[1] = true;
+    } else {
+      const std::array<bool, 2> kkt =
+          StartIsKktPoint(setup, st.x0, seeds[s], options.tolerance,
+                          {RunSign(options, false), RunSign(options, true)});
+      st.kkt[0] = kkt[0];
+      st.kkt[1] = kkt[1];
+    }
+  }
+  return out;
+}
+
+// The best φ over the starts accepted as KKT points in one direction (NaN if none): the value
+// a run in that direction must beat to matter.
+double Incumbent(const std::vector<SeedStart>& starts, const BoundsOptions& options, int dir) {
+  const double sign = RunSign(options, dir == 1);
+  double best = std::numeric_limits<double>::quiet_NaN();
+  for (const SeedStart& st : starts) {
+    if (!st.ok || !st.kkt[dir]) continue;
+    if (!std::isfinite(best) || sign * st.objective < sign * best) best = st.objective;
+  }
+  return best;
+}
+
+}  // namespace
 
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options,
@@ -284,45 +356,36 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     setup.x_scale.segment(j * n, n).setConstant(std::max(block, 1e-6 * x_ref));
   }
 
+  const std::vector<SeedStart> st = SeedStarts(system, freq_hz, options, seeds, setup, &result);
+  // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best), never
+  // another run's result, so the outcome does not depend on the order of the runs.
+  const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};
   IpoptBounds ipopt(system, options);
-  std::vector<Eigen::VectorXd> starts;
   bool have_min = false, have_max = false;
   double min_lo = 0, min_hi = 0, max_lo = 0, max_hi = 0;
   const int num_seeds = static_cast<int>(seeds.size());
+  const bool amp = options.objective == BoundsOptions::kAmplitude;
   for (int s = 0; s < num_seeds; ++s) {
     if (options.progress && s > 0) options.progress("seeds", s, num_seeds);
-    Eigen::VectorXd x0;
-    if (!StartSolution(system, freq_hz, seeds[s], starts, &x0)) {
-      ++result.start_failures;
-      continue;
-    }
-    starts.push_back(x0);
-    if (options.objective == BoundsOptions::kAmplitude) {
-      const double y0 = system.Amplitude(x0);
-      setup.objective_scale = std::max(y0 * y0, 1e-300);
-    } else {
-      const double eta0 = system.Energies(x0, omega, seeds[s]).loss_factor();
-      setup.objective_scale = std::max(std::abs(eta0), 1e-6);
-    }
+    if (!st[s].ok) continue;
+    const Eigen::VectorXd& x0 = st[s].x0;
+    setup.objective_scale = st[s].objective_scale;
     bool both = true;
     for (int dir = 0; dir < 2; ++dir) {
       const bool maximise_response = dir == 1;
-      // Minimum response: min a², or max η; maximum response: max a², or min η.
-      const bool amp = options.objective == BoundsOptions::kAmplitude;
-      setup.sign = (maximise_response == amp) ? -1.0 : 1.0;
+      setup.sign = RunSign(options, maximise_response);
+      setup.incumbent = options.stop_dominated_runs && std::isfinite(incumbent[dir])
+                            ? setup.sign * incumbent[dir] / setup.objective_scale
+                            : std::numeric_limits<double>::quiet_NaN();
       BoundSolution sol;
-      auto accept_start = [&](const char* why) {
+      if (st[s].kkt[dir]) {
         sol.x = x0;
         sol.alpha = seeds[s];
         sol.seed = s;
         sol.status = BoundStatus::kConverged;
-        sol.message = why;
+        sol.message = nc == 0 ? "no contacts: unique response"
+                              : "the start is already a KKT point (zero reduced gradient in alpha)";
         Describe(system, omega, &sol);
-      };
-      if (nc == 0) {
-        accept_start("no contacts: unique response");
-      } else if (StartIsKktPoint(setup, x0, seeds[s], options.tolerance)) {
-        accept_start("the start is already a KKT point (zero reduced gradient in alpha)");
       } else {
         const bool reduced = options.method != BoundsOptions::kFullSpace;
         const bool full = options.method != BoundsOptions::kReducedSpace;
@@ -342,8 +405,12 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       bool& have = maximise_response ? have_max : have_min;
       if (!sol.IsUsable()) {
         both = false;
-        ++(maximise_response ? result.max_failures : result.min_failures);
-        if (!have) best = sol;  // keep a failure on record until a run converges
+        if (sol.status == BoundStatus::kAbandoned) {
+          ++result.runs_abandoned;  // dominated by a KKT start: `best` is already usable
+        } else {
+          ++(maximise_response ? result.max_failures : result.min_failures);
+          if (!have) best = sol;  // keep a failure on record until a run converges
+        }
         continue;
       }
       const double v = RankValue(sol, options.objective);
@@ -409,6 +476,7 @@ void MergeBounds(const BoundsResult& other, BoundsOptions::Objective objective,
   into->min_failures += other.min_failures;
   into->max_failures += other.max_failures;
   into->optimizer_runs += other.optimizer_runs;
+  into->runs_abandoned += other.runs_abandoned;
   into->samples_checked += other.samples_checked;
   into->samples_failed += other.samples_failed;
   into->improved_by_samples += other.improved_by_samples;

@@ -149,6 +149,12 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   const NewtonOptions newton;
   double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
   int quiet = 0;
+  // Dominated runs (RunSetup::incumbent): judged after kJudgeAfter iterations, against
+  // kGainMargin times the best decrease of the objective per iteration over the last
+  // kJudgeAfter (the rate it crawls at now, not that of a first jump).
+  constexpr int kJudgeAfter = 10;
+  constexpr double kGainMargin = 10.0;
+  std::vector<double> gains;
   for (int it = 0; it < max_iterations; ++it) {
     out.iterations = it;
     // First-order conditions on the box: the projected gradient step vanishes.
@@ -191,6 +197,18 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     }
     const Eigen::VectorXd ds = a_new - a, dg = g_new - g;
     const double change = std::abs(phi - phi_new);
+    gains.push_back(phi - phi_new);
+    const double recent = *std::max_element(
+        gains.end() - std::min<std::ptrdiff_t>(kJudgeAfter, std::ssize(gains)), gains.end());
+    if (std::isfinite(s.incumbent) && it + 1 >= kJudgeAfter &&
+        phi_new - s.incumbent > kGainMargin * recent * (max_iterations - it - 1)) {
+      x = x_new;
+      a = a_new;
+      out.iterations = it + 1;
+      return finish(BoundStatus::kAbandoned,
+                    "reduced space: abandoned after " + std::to_string(it + 1) +
+                        " iterations, dominated (cannot reach the bound of a KKT start)");
+    }
     x = x_new;
     a = a_new;
     g = g_new;

@@ -41,6 +41,7 @@ TEST(BoundsRecord, ReadsBackBitForBit) {
   EXPECT_EQ(r.seed_counts.base, b.seed_counts.base);
   EXPECT_EQ(r.seeds_converged, b.seeds_converged);
   EXPECT_EQ(r.optimizer_runs, b.optimizer_runs);
+  EXPECT_EQ(r.runs_abandoned, b.runs_abandoned);
   EXPECT_EQ(r.samples_checked, b.samples_checked);
   EXPECT_EQ(r.wall_s, b.wall_s);
   EXPECT_EQ(r.robustness(), b.robustness());
