@@ -29,6 +29,9 @@ void zgemv_(const char* trans, const int* m, const int* n, const std::complex<do
             const std::complex<double>* a, const int* lda, const std::complex<double>* x,
             const int* incx, const std::complex<double>* beta, std::complex<double>* y,
             const int* incy, std::size_t);
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* beta, double* c, const int* ldc,
+            std::size_t, std::size_t);
 void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
 void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
              const int* ipiv, double* b, const int* ldb, int* info, std::size_t);
@@ -54,6 +57,32 @@ bool FitsInt(Eigen::Index a, Eigen::Index b = 0, Eigen::Index c = 0) {
 }
 
 }  // namespace
+
+Eigen::MatrixXd WeightedGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& d) {
+  if (w.cols() != d.size()) throw std::invalid_argument("dense::WeightedGram: sizes differ");
+  const Eigen::Index n = w.rows();
+  if (std::max(n, w.cols()) < kLapackMinSize || !FitsInt(n, w.cols())) {
+    return Product(w * d.asDiagonal(), false, w, true);
+  }
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(n, n);
+  const int in = static_cast<int>(n);
+  for (const double sign : {1.0, -1.0}) {
+    std::vector<Eigen::Index> cols;
+    for (Eigen::Index k = 0; k < d.size(); ++k) {
+      if (sign * d[k] > 0.0) cols.push_back(k);
+    }
+    if (cols.empty()) continue;
+    Eigen::MatrixXd p(n, static_cast<Eigen::Index>(cols.size()));
+    for (size_t c = 0; c < cols.size(); ++c) {
+      p.col(static_cast<Eigen::Index>(c)) = w.col(cols[c]) * std::sqrt(sign * d[cols[c]]);
+    }
+    const int k = static_cast<int>(p.cols());
+    const double beta = 1.0;
+    dsyrk_("L", "N", &in, &k, &sign, p.data(), &in, &beta, g.data(), &in, 1, 1);
+  }
+  g.triangularView<Eigen::StrictlyUpper>() = g.transpose();
+  return g;
+}
 
 void MatVec(const Eigen::MatrixXd& a, bool transpose, const Eigen::VectorXd& x,
             Eigen::VectorXd* y) {

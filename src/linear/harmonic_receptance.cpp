@@ -162,12 +162,14 @@ void HarmonicReceptance::SetFrequencyModal(double omega) {
              std::complex<double>(0.0, 1.0) * hw * modal_c_.array())
                 .inverse()
                 .matrix();
-    const Eigen::MatrixXd gr = dense::Product(w_ * d_[h].real().asDiagonal(), false, w_, true);
+    // G_0 = W Λ⁻¹ Wᵀ does not depend on ω: formed once. G_h = W diag(d_h) Wᵀ is symmetric in
+    // its real and imaginary parts: WeightedGram forms each for half a general product.
     if (h == 0) {
-      g_[0] = gr;
+      if (g_[0].size() == 0) g_[0] = dense::WeightedGram(w_, d_[0].real());
       continue;
     }
-    const Eigen::MatrixXd gi = dense::Product(w_ * d_[h].imag().asDiagonal(), false, w_, true);
+    const Eigen::MatrixXd gr = dense::WeightedGram(w_, d_[h].real());
+    const Eigen::MatrixXd gi = dense::WeightedGram(w_, d_[h].imag());
     g_[h].resize(2 * nr, 2 * nr);
     g_[h] << gr, gi, -gi, gr;
   }

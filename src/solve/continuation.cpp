@@ -1,10 +1,13 @@
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "fricrom/solve.h"
 #include "linear/dense_lapack.h"
+#include "linear/gmres.h"
+#include "solve/newton_preconditioned.h"
 
 namespace fricrom {
 
@@ -105,9 +108,11 @@ struct Corrector : SquareSystem {
   }
 };
 
-// Unit tangent of the branch at z, oriented along `previous`.
+// Unit tangent of the branch at z, oriented along `previous`. Large systems first try GMRES
+// preconditioned with `near` (the corrector's last LU: the same bordered matrix [G_z; previousᵀ]
+// at a nearby z), a new LU only if that misses.
 bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& previous,
-             Eigen::VectorXd* tau) {
+             const dense::Lu* near, Eigen::VectorXd* tau) {
   Eigen::VectorXd g;
   Eigen::MatrixXd dg;
   s.Eval(z, &g, &dg);
@@ -116,9 +121,15 @@ bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& p
   a.row(s.n()) = previous.transpose();
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(s.n() + 1);
   rhs[s.n()] = 1.0;
-  const dense::Lu lu(a);
-  if (!(lu.rcond() > 1e-15)) return false;
-  *tau = lu.Solve(rhs);
+  bool solved = false;
+  if (near != nullptr && near->rows() == a.rows() && a.rows() >= dense::kLapackMinSize) {
+    solved = dense::PreconditionedGmres(a, false, *near, false, rhs, 1e-10, 20, tau).converged;
+  }
+  if (!solved) {
+    const dense::Lu lu(a);
+    if (!(lu.rcond() > 1e-15)) return false;
+    *tau = lu.Solve(rhs);
+  }
   if (!tau->allFinite()) return false;
   tau->normalize();
   if (tau->dot(previous) < 0.0) *tau = -*tau;
@@ -166,12 +177,13 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
   }
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(n + 1);
   tau[n] = dir;
-  if (!Tangent(s, z, tau, &tau)) {
+  if (!Tangent(s, z, tau, nullptr, &tau)) {
     summary.status = ContinuationStatus::kStartFailed;
     summary.message = "singular tangent system at the start point";
     return summary;
   }
   const double lambda_end_scaled = options.lambda_end / s.ls;
+  std::shared_ptr<const dense::Lu> lu;  // the last factorised bordered Jacobian
   double ds = options.initial_step;
   double travel = dir, lambda_extreme = z[n];
   while (summary.points < options.max_points) {
@@ -179,10 +191,15 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
     Corrector corr(s, tau, z_new);
     NewtonOptions copts = options.corrector;
     copts.max_iterations = std::min(copts.max_iterations, 3 * options.target_iterations + 4);
-    NewtonSummary cs = SolveNewton(corr, copts, &z_new);
+    // The last bordered LU preconditions the corrector's GMRES steps (large systems), and the
+    // corrector's own LU the tangent solve: consecutive points differ little.
+    std::shared_ptr<const dense::Lu> lu_new;
+    NewtonSummary cs = SolveNewtonPreconditioned(corr, copts, NewtonPreconditioner{lu.get(), false},
+                                                 &z_new, &lu_new);
     summary.evaluations += cs.evaluations;
+    if (lu_new) lu = lu_new;
     Eigen::VectorXd tau_new;
-    if (!cs.IsSolutionUsable() || !Tangent(s, z_new, tau, &tau_new)) {
+    if (!cs.IsSolutionUsable() || !Tangent(s, z_new, tau, lu.get(), &tau_new)) {
       ++summary.rejected_steps;
       ds *= 0.5;
       if (ds < options.min_step) {

@@ -1,6 +1,6 @@
 #include <algorithm>
 #include <cmath>
-#include <optional>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -114,6 +114,10 @@ class NewtonStepper {
     return true;
   }
 
+ public:
+  // The last factorisation made here (null if none).
+  std::shared_ptr<const dense::Lu> factorization() const { return lu_; }
+
  private:
   // Below this reciprocal condition a single-precision LU preconditions poorly.
   static constexpr double kSinglePrecisionRcond = 1e-5;
@@ -140,8 +144,8 @@ class NewtonStepper {
 
   // LU of j_ becomes the preconditioner; false if singular.
   bool Factorize(dense::LuPrecision precision, NewtonSummary* summary) {
-    lu_.emplace(j_, precision);
-    preconditioner_ = NewtonPreconditioner{&*lu_, false};
+    lu_ = std::make_shared<dense::Lu>(j_, precision);
+    preconditioner_ = NewtonPreconditioner{lu_.get(), false};
     ++summary->factorizations;
     return lu_->rcond() > 1e-15;
   }
@@ -152,7 +156,7 @@ class NewtonStepper {
   Eigen::MatrixXd j_;
   bool jacobian_current_ = false;
   std::unique_ptr<JacobianOperator> operator_;  // the matrix-free Jacobian at x, if offered
-  std::optional<dense::Lu> lu_;                 // the last Jacobian factorised here
+  std::shared_ptr<dense::Lu> lu_;               // the last Jacobian factorised here
 };
 
 }  // namespace
@@ -162,8 +166,10 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
   return SolveNewtonPreconditioned(system, options, NewtonPreconditioner{}, x);
 }
 
-NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const NewtonOptions& options,
-                                        NewtonPreconditioner preconditioner, Eigen::VectorXd* x) {
+namespace {
+
+NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options,
+                        NewtonStepper& stepper, Eigen::VectorXd* x) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (x == nullptr || x->size() != system.size()) {
@@ -175,7 +181,6 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
   Eigen::VectorXd r, r_trial, x_trial;
   // The Jacobian is evaluated only where a step is taken: a solve that starts or lands within
   // the tolerance pays no Jacobian there (warm-started solves of the bound optimiser).
-  NewtonStepper stepper(system, options, preconditioner);
   double previous_norm = 0.0;
   system.Evaluate(*x, &r, nullptr);
   ++summary.evaluations;
@@ -265,6 +270,17 @@ NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const Newton
       return summary;
     }
   }
+}
+
+}  // namespace
+
+NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const NewtonOptions& options,
+                                        NewtonPreconditioner preconditioner, Eigen::VectorXd* x,
+                                        std::shared_ptr<const dense::Lu>* factorization) {
+  NewtonStepper stepper(system, options, preconditioner);
+  const NewtonSummary summary = RunNewton(system, options, stepper, x);
+  if (factorization != nullptr && stepper.factorization()) *factorization = stepper.factorization();
+  return summary;
 }
 
 }  // namespace fricrom

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 
 #include "fricrom/solve.h"
 #include "linear/dense_lapack.h"
@@ -17,8 +18,10 @@ struct NewtonPreconditioner {
 };
 
 // SolveNewton (solve.h) with `preconditioner` used for the GMRES steps until Newton factorises a
-// Jacobian of its own (systems of at least options.krylov_min_size unknowns).
+// Jacobian of its own (systems of at least options.krylov_min_size unknowns). If the solve
+// factorised, *factorization (when given) receives its last LU, to precondition the next solve.
 NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const NewtonOptions& options,
-                                        NewtonPreconditioner preconditioner, Eigen::VectorXd* x);
+                                        NewtonPreconditioner preconditioner, Eigen::VectorXd* x,
+                                        std::shared_ptr<const dense::Lu>* factorization = nullptr);
 
 }  // namespace fricrom

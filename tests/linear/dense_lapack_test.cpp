@@ -73,6 +73,21 @@ TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
   EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
 }
 
+TEST_P(DenseLapackSizes, WeightedGramMatchesTheGeneralProduct) {
+  const int n = GetParam();
+  const Eigen::MatrixXd w = Random(n, n + 9, 12);
+  Eigen::VectorXd d = Random(n + 9, 1, 13);
+  d[3] = 0.0;  // zero weights drop out
+  const Eigen::MatrixXd ref = w * d.asDiagonal() * w.transpose();
+  const Eigen::MatrixXd g = WeightedGram(w, d);
+  EXPECT_LT((g - ref).norm(), 1e-13 * (w.norm() * w.norm() * d.cwiseAbs().maxCoeff()));
+  if (n >= kLapackMinSize) {
+    EXPECT_EQ((g - g.transpose()).norm(), 0.0);  // one triangle computed, mirrored
+  }
+  EXPECT_EQ(WeightedGram(w, Eigen::VectorXd::Zero(n + 9)).norm(), 0.0);
+  EXPECT_THROW(WeightedGram(w, d.head(n)), std::invalid_argument);
+}
+
 TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
   const int n = GetParam();
   const Eigen::MatrixXd a = Random(n, n + 5, 8);
