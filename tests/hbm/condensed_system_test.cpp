@@ -19,6 +19,25 @@
 namespace fricrom {
 namespace {
 
+// Each contact as two 1D laws along x and y with kn/2, preload halves and 2μ (as [[interfaces]]
+// tangential_directions = 2 builds them): the pair's normal row is shared by the two laws.
+void SplitIntoTwoTangentialDirections(Model* model) {
+  std::vector<Contact> split;
+  for (const Contact& ct : model->contacts) {
+    for (int d = 0; d < 2; ++d) {
+      Contact half = ct;
+      half.name = ct.name + (d ? ".t2" : ".t1");
+      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
+      half.kn = 0.5 * ct.kn;
+      half.kt = 0.5 * ct.kt;
+      half.normal_preload = 0.5 * ct.normal_preload;
+      half.mu = 2.0 * ct.mu;
+      split.push_back(half);
+    }
+  }
+  model->contacts = split;
+}
+
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct Pair {
@@ -168,20 +187,7 @@ TEST(Condensed, MatrixFreeJacobianEqualsTheDenseJacobian) {
   // 12 pairs with two tangential directions each (shared normal rows), from a perturbed start
   // (stuck and slipping pairs mixed) and at the converged state.
   Model strip = testing::ContactStrip(12);
-  std::vector<Contact> split;
-  for (const Contact& ct : strip.contacts) {
-    for (int d = 0; d < 2; ++d) {
-      Contact half = ct;
-      half.name = ct.name + (d ? ".t2" : ".t1");
-      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
-      half.kn = 0.5 * ct.kn;
-      half.kt = 0.5 * ct.kt;
-      half.normal_preload = 0.5 * ct.normal_preload;
-      half.mu = 2.0 * ct.mu;
-      split.push_back(half);
-    }
-  }
-  strip.contacts = split;
+  SplitIntoTwoTangentialDirections(&strip);
   for (int harmonics : {1, 3}) {
     CondensedSystem cond(strip, HbmOptions{harmonics, 64});
     const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(cond.num_contacts(), -0.9, 0.9);
@@ -255,20 +261,7 @@ TEST(Condensed, TwoTangentialDirectionsShareTheNormalRow) {
   // unknown per pair (3 rows, not 4) and still gives the full balance's solution, residual and
   // derivatives.
   Model model = testing::ContactStrip(12);
-  std::vector<Contact> split;
-  for (const Contact& ct : model.contacts) {
-    for (int d = 0; d < 2; ++d) {
-      Contact half = ct;
-      half.name = ct.name + (d ? ".t2" : ".t1");
-      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
-      half.kn = 0.5 * ct.kn;
-      half.kt = 0.5 * ct.kt;
-      half.normal_preload = 0.5 * ct.normal_preload;
-      half.mu = 2.0 * ct.mu;
-      split.push_back(half);
-    }
-  }
-  model.contacts = split;
+  SplitIntoTwoTangentialDirections(&model);
   const HbmOptions opt{1, 64};
   HbmSystem full(model, opt);
   CondensedSystem cond(model, opt);
