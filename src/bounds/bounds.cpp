@@ -321,6 +321,43 @@ double Incumbent(const std::vector<SeedStart>& starts, const BoundsOptions& opti
   return best;
 }
 
+// Folds the runs into the bounds, in order: the best converged run per direction, the spread of
+// the converged optima, failures and abandoned runs counted.
+struct RunTally {
+  BoundsOptions::Objective objective;
+  bool have[2] = {false, false};
+  double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0};
+
+  // False unless `sol` converged.
+  bool Add(BoundSolution sol, bool maximise_response, BoundsResult* result) {
+    const int d = maximise_response ? 1 : 0;
+    BoundSolution& best = maximise_response ? result->max : result->min;
+    if (!sol.IsUsable()) {
+      if (sol.status == BoundStatus::kAbandoned) {
+        ++result->runs_abandoned;  // dominated by a KKT start: `best` is already usable
+      } else {
+        ++(maximise_response ? result->max_failures : result->min_failures);
+        if (!have[d]) best = std::move(sol);  // keep a failure on record until a run converges
+      }
+      return false;
+    }
+    const double v = RankValue(sol, objective);
+    const double obj = objective == BoundsOptions::kAmplitude ? sol.amplitude : sol.loss_factor;
+    lo[d] = have[d] ? std::min(lo[d], obj) : obj;
+    hi[d] = have[d] ? std::max(hi[d], obj) : obj;
+    const double v_best = have[d] ? RankValue(best, objective) : 0.0;
+    if (!have[d] || (maximise_response ? v > v_best : v < v_best)) best = std::move(sol);
+    have[d] = true;
+    return true;
+  }
+
+  void Finish(BoundsResult* result) const {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    result->spread_min = have[0] ? hi[0] - lo[0] : nan;
+    result->spread_max = have[1] ? hi[1] - lo[1] : nan;
+  }
+};
+
 }  // namespace
 
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
@@ -361,10 +398,8 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   // another run's result, so the outcome does not depend on the order of the runs.
   const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};
   IpoptBounds ipopt(system, options);
-  bool have_min = false, have_max = false;
-  double min_lo = 0, min_hi = 0, max_lo = 0, max_hi = 0;
+  RunTally tally{options.objective};
   const int num_seeds = static_cast<int>(seeds.size());
-  const bool amp = options.objective == BoundsOptions::kAmplitude;
   for (int s = 0; s < num_seeds; ++s) {
     if (options.progress && s > 0) options.progress("seeds", s, num_seeds);
     if (!st[s].ok) continue;
@@ -401,38 +436,12 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
         }
         result.optimizer_runs += (reduced ? 1 : 0) + (full ? 1 : 0);
       }
-      BoundSolution& best = maximise_response ? result.max : result.min;
-      bool& have = maximise_response ? have_max : have_min;
-      if (!sol.IsUsable()) {
-        both = false;
-        if (sol.status == BoundStatus::kAbandoned) {
-          ++result.runs_abandoned;  // dominated by a KKT start: `best` is already usable
-        } else {
-          ++(maximise_response ? result.max_failures : result.min_failures);
-          if (!have) best = sol;  // keep a failure on record until a run converges
-        }
-        continue;
-      }
-      const double v = RankValue(sol, options.objective);
-      const double obj = amp ? sol.amplitude : sol.loss_factor;
-      double& lo = maximise_response ? max_lo : min_lo;
-      double& hi = maximise_response ? max_hi : min_hi;
-      if (!have) {
-        lo = hi = obj;
-      } else {
-        lo = std::min(lo, obj);
-        hi = std::max(hi, obj);
-      }
-      const double v_best = have ? RankValue(best, options.objective) : 0.0;
-      const bool better = !have || (maximise_response ? v > v_best : v < v_best);
-      if (better) best = std::move(sol);
-      have = true;
+      if (!tally.Add(std::move(sol), maximise_response, &result)) both = false;
     }
     if (both) ++result.seeds_converged;
   }
   if (options.progress) options.progress("seeds", num_seeds, num_seeds);
-  result.spread_min = have_min ? min_hi - min_lo : std::numeric_limits<double>::quiet_NaN();
-  result.spread_max = have_max ? max_hi - max_lo : std::numeric_limits<double>::quiet_NaN();
+  tally.Finish(&result);
   for (BoundSolution* b : {&result.min, &result.max}) {
     if (b->IsUsable()) continue;  // a failed bound is never a number
     b->amplitude = b->loss_factor = std::numeric_limits<double>::quiet_NaN();

@@ -108,6 +108,18 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
   return g->allFinite();
 }
 
+// Whether a run at objective phi (after gains.size() iterations with these decreases) is
+// dominated by `incumbent` (RunSetup): judged after kJudgeAfter iterations, against kGainMargin
+// times the best decrease per iteration over the last kJudgeAfter (the rate it crawls at now,
+// not that of a first jump), over the iterations left.
+bool Dominated(double incumbent, double phi, const std::vector<double>& gains, int left) {
+  constexpr std::ptrdiff_t kJudgeAfter = 10;
+  constexpr double kGainMargin = 10.0;
+  if (!std::isfinite(incumbent) || std::ssize(gains) < kJudgeAfter) return false;
+  const double recent = *std::max_element(gains.end() - kJudgeAfter, gains.end());
+  return phi - incumbent > kGainMargin * recent * left;
+}
+
 }  // namespace
 
 // Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
@@ -149,12 +161,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   const NewtonOptions newton;
   double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
   int quiet = 0;
-  // Dominated runs (RunSetup::incumbent): judged after kJudgeAfter iterations, against
-  // kGainMargin times the best decrease of the objective per iteration over the last
-  // kJudgeAfter (the rate it crawls at now, not that of a first jump).
-  constexpr int kJudgeAfter = 10;
-  constexpr double kGainMargin = 10.0;
-  std::vector<double> gains;
+  std::vector<double> gains;  // decrease of the objective per accepted iteration
   for (int it = 0; it < max_iterations; ++it) {
     out.iterations = it;
     // First-order conditions on the box: the projected gradient step vanishes.
@@ -198,10 +205,7 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     const Eigen::VectorXd ds = a_new - a, dg = g_new - g;
     const double change = std::abs(phi - phi_new);
     gains.push_back(phi - phi_new);
-    const double recent = *std::max_element(
-        gains.end() - std::min<std::ptrdiff_t>(kJudgeAfter, std::ssize(gains)), gains.end());
-    if (std::isfinite(s.incumbent) && it + 1 >= kJudgeAfter &&
-        phi_new - s.incumbent > kGainMargin * recent * (max_iterations - it - 1)) {
+    if (Dominated(s.incumbent, phi_new, gains, max_iterations - it - 1)) {
       x = x_new;
       a = a_new;
       out.iterations = it + 1;
