@@ -19,6 +19,9 @@ struct FrfOptions {
   double min_step = 1e-7;
   double max_step = 0.05;
   int max_points = 5000;
+  // SolveAtFrequency: when plain Newton from the starts fails, try the α homotopy and the
+  // frequency continuations (robust, but costly where they fail too).
+  bool use_fallbacks = true;
   bool IsValid(std::string* error) const;
 };
 

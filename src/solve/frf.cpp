@@ -195,7 +195,7 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   // 1) Homotopy in α from α = 0, whose solution plain Newton usually finds.
   const bool has_alpha = alpha.size() > 0 && alpha.cwiseAbs().maxCoeff() > 0.0;
   Eigen::VectorXd x_alpha0;
-  if (!ok && has_alpha) {
+  if (!ok && has_alpha && options.use_fallbacks) {
     NewtonSummary s0;
     if (NewtonFromStarts(system, Eigen::VectorXd::Zero(alpha.size()), omega, {starts.back()},
                          options, &x_alpha0, &p.iterations, &s0)) {
@@ -206,7 +206,7 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   //    converges: the route that makes the sweep succeed where a cold start at resonance fails.
   //    Nearest first, so that the branch followed crosses as few resonances as possible.
   for (double ratio : {0.95, 1.05, 0.9, 1.1, 0.8, 1.25, 0.5}) {
-    if (ok) break;
+    if (ok || !options.use_fallbacks) break;
     const double f0 = freq_hz * ratio;
     Eigen::VectorXd x0;
     NewtonSummary s0;

@@ -135,7 +135,9 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double f = 266.0;
-  int plain_failed = 0, failed = 0;
+  int plain_failed = 0, failed = 0, failed_without_fallbacks = 0;
+  FrfOptions no_fallbacks;
+  no_fallbacks.use_fallbacks = false;
   for (int i = 0; i < 60; ++i) {
     Eigen::Vector4d a(u(rng), u(rng), u(rng), u(rng));
     if (i < 16) {
@@ -144,6 +146,9 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
     Eigen::VectorXd x = sys.StickLinearSolution(kTwoPi * f);
     plain_failed +=
         !SolveNewton(HbmAtFrequency(sys, kTwoPi * f, a), NewtonOptions{}, &x).IsSolutionUsable();
+    failed_without_fallbacks +=
+        SolveAtFrequency(sys, a, f, Eigen::VectorXd(), no_fallbacks).status !=
+        SolverStatus::kConverged;
     const FrfPoint p = SolveAtFrequency(sys, a, f, Eigen::VectorXd(), FrfOptions{});
     if (p.status != SolverStatus::kConverged) {
       ++failed;
@@ -154,6 +159,8 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
     EXPECT_LE(e.residual.norm(), 1e-7 * sys.ResidualScale());
   }
   EXPECT_GT(plain_failed, 0) << "plain Newton no longer fails: the test lost its point";
+  // Without its fallbacks SolveAtFrequency is plain Newton from its starts (the same stick start).
+  EXPECT_EQ(failed_without_fallbacks, plain_failed);
   EXPECT_EQ(failed, 0) << "plain Newton failed on " << plain_failed << "/60";
 }
 
