@@ -22,6 +22,9 @@ struct FrfOptions {
   // SolveAtFrequency: when plain Newton from the starts fails, try the α homotopy and the
   // frequency continuations (robust, but costly where they fail too).
   bool use_fallbacks = true;
+  // Points each fallback path may take (the α homotopy, each frequency continuation): a path
+  // stalled at a kink or crossing resonances is given up early instead of running for minutes.
+  int fallback_max_points = 2000;
   bool IsValid(std::string* error) const;
 };
 

@@ -84,29 +84,14 @@ Eigen::MatrixXd WeightedGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& d)
   return g;
 }
 
-void MatVec(const Eigen::MatrixXd& a, bool transpose, const Eigen::VectorXd& x,
-            Eigen::VectorXd* y) {
-  if ((transpose ? a.rows() : a.cols()) != x.size()) {
-    throw std::invalid_argument("dense::MatVec: sizes differ");
-  }
-  y->resize(transpose ? a.cols() : a.rows());
-  if (std::max(a.rows(), a.cols()) < kLapackMinSize || !FitsInt(a.rows(), a.cols()) ||
-      a.size() == 0) {
-    if (transpose) {
-      y->noalias() = a.transpose() * x;
-    } else {
-      y->noalias() = a * x;
-    }
-    return;
-  }
-  const int m = static_cast<int>(a.rows()), n = static_cast<int>(a.cols()), one_i = 1;
-  const double one = 1.0, zero = 0.0;
-  dgemv_(transpose ? "T" : "N", &m, &n, &one, a.data(), &m, x.data(), &one_i, &zero, y->data(),
-         &one_i, 1);
-}
+namespace {
 
-void MatVec(const Eigen::MatrixXcd& a, bool adjoint, const Eigen::VectorXcd& x,
-            Eigen::VectorXcd* y) {
+// y = op(a)·x, op = identity or the adjoint (the transpose for real a); BLAS gemv (`gemv`, dgemv_
+// or zgemv_) on matrices large enough to gain from it, Eigen below that.
+template <typename Scalar, typename Gemv>
+void GemvOrEigen(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& a, bool adjoint,
+                 const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& x,
+                 Eigen::Matrix<Scalar, Eigen::Dynamic, 1>* y, Gemv gemv) {
   if ((adjoint ? a.rows() : a.cols()) != x.size()) {
     throw std::invalid_argument("dense::MatVec: sizes differ");
   }
@@ -121,9 +106,21 @@ void MatVec(const Eigen::MatrixXcd& a, bool adjoint, const Eigen::VectorXcd& x,
     return;
   }
   const int m = static_cast<int>(a.rows()), n = static_cast<int>(a.cols()), one_i = 1;
-  const std::complex<double> one = 1.0, zero = 0.0;
-  zgemv_(adjoint ? "C" : "N", &m, &n, &one, a.data(), &m, x.data(), &one_i, &zero, y->data(),
-         &one_i, 1);
+  const Scalar one = 1.0, zero = 0.0;
+  gemv(adjoint ? "C" : "N", &m, &n, &one, a.data(), &m, x.data(), &one_i, &zero, y->data(), &one_i,
+       1);
+}
+
+}  // namespace
+
+void MatVec(const Eigen::MatrixXd& a, bool transpose, const Eigen::VectorXd& x,
+            Eigen::VectorXd* y) {
+  GemvOrEigen(a, transpose, x, y, dgemv_);  // "C" is the transpose for real BLAS
+}
+
+void MatVec(const Eigen::MatrixXcd& a, bool adjoint, const Eigen::VectorXcd& x,
+            Eigen::VectorXcd* y) {
+  GemvOrEigen(a, adjoint, x, y, zgemv_);
 }
 
 Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen::MatrixXd& b,

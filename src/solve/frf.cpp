@@ -39,8 +39,8 @@ bool FrfOptions::IsValid(std::string* error) const {
     *error = "FrfOptions: steps must satisfy 0 < min_step <= initial_step <= max_step";
     return false;
   }
-  if (max_points < 1) {
-    *error = "FrfOptions.max_points must be >= 1";
+  if (max_points < 1 || fallback_max_points < 1) {
+    *error = "FrfOptions.max_points and fallback_max_points must be >= 1";
     return false;
   }
   return newton.IsValid(error);
@@ -108,7 +108,8 @@ bool ContinueInFrequency(const HarmonicBalance& system, const Eigen::VectorXd& a
                          const Eigen::VectorXd& x_from, double f_to, const FrfOptions& options,
                          Eigen::VectorXd* x, int* iterations) {
   HbmFrequencyFamily family(system, alpha);
-  const ContinuationOptions copt = MakeContinuationOptions(system, options, f_from, f_to, x_from);
+  ContinuationOptions copt = MakeContinuationOptions(system, options, f_from, f_to, x_from);
+  copt.max_points = std::min(copt.max_points, options.fallback_max_points);
   Eigen::VectorXd x_end;
   const ContinuationSummary cs = Continue(family, copt, x_from, [&](const ContinuationPoint& cp) {
     x_end = cp.x;
@@ -136,7 +137,7 @@ bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha
   c.initial_step = 0.05;
   c.max_step = 0.2;
   c.min_step = 1e-8;
-  c.max_points = 2000;
+  c.max_points = options.fallback_max_points;
   c.corrector = options.newton;
   Eigen::VectorXd x_end;
   const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {

@@ -12,11 +12,13 @@ tmp="$(mktemp -d)"
 trap 'kill -9 $(jobs -p) 2>/dev/null || true; rm -rf "$tmp"' EXIT
 fail() { echo "sweep_resume_test: $*" >&2; exit 1; }
 # gamma in [0, 0.43] at the lumped case's peak: values cost 10-150 ms each (about 4 s in all)
+# FRICROM_TEST_SWEEP_STEPS: fewer values where every run is slower (the sanitizer build: 16).
+steps="${FRICROM_TEST_SWEEP_STEPS:-80}"
 sweep=(sweep "$root/meshes/lumped3/baseline.toml" --method reduced --param gamma --from 0 --to 0.43
        --freq 266 --json --quiet)
 
-"$fricrom" "${sweep[@]}" --steps 80 --threads 1 --out "$tmp/ref" > "$tmp/ref.json"
-"$fricrom" "${sweep[@]}" --steps 80 --threads 2 --out "$tmp/two" > "$tmp/two.json"
+"$fricrom" "${sweep[@]}" --steps "$steps" --threads 1 --out "$tmp/ref" > "$tmp/ref.json"
+"$fricrom" "${sweep[@]}" --steps "$steps" --threads 2 --out "$tmp/two" > "$tmp/two.json"
 
 compare() {  # compare DIR_A DIR_B: the datasets of sweep.h5 to 1e-12, sweep.csv byte for byte
   "$py" - "$1/sweep.h5" "$2/sweep.h5" <<'PY' || fail "$1/sweep.h5 and $2/sweep.h5 differ"
@@ -37,10 +39,10 @@ compare "$tmp/ref" "$tmp/two"
 # Two MPI ranks (values handed out by rank 0, which computes too): the same files. Containers often
 # forbid the cross-process memory attach of OpenMPI's shared-memory transport: plain copies.
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
-mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${sweep[@]}" --steps 80 \
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${sweep[@]}" --steps "$steps" \
   --out "$tmp/mpi" > "$tmp/mpi.json" || fail "mpirun -np 2 sweep failed"
-"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == 80, u' \
-  "$tmp/mpi.json" || fail "the MPI run did not use 2 ranks"
+"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == int(sys.argv[2]), u' \
+  "$tmp/mpi.json" "$steps" || fail "the MPI run did not use 2 ranks"
 compare "$tmp/ref" "$tmp/mpi"
 # Commands that do not distribute their work refuse to run on several ranks (exit 2).
 set +e
@@ -53,7 +55,7 @@ grep -q "distribute their work over MPI" "$tmp/mpi_modes.err" || fail "mpirun mo
 
 # Kill at a random moment within the first 2 s after the journal appears (the whole run takes
 # about 5 s on 1 thread here, 80 values), then resume.
-"$fricrom" "${sweep[@]}" --steps 80 --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
+"$fricrom" "${sweep[@]}" --steps "$steps" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
 pid=$!
 for _ in $(seq 100); do [ -f "$tmp/k/sweep.journal" ] && break; sleep 0.05; done
 sleep "$("$py" -c 'import random; print(round(random.uniform(0.0, 1.5), 2))')"
@@ -72,14 +74,14 @@ if os.path.exists(sys.argv[1]):
 print(n)
 PY
 )
-"$fricrom" "${sweep[@]}" --steps 80 --threads 2 --out "$tmp/k" --resume > "$tmp/k.json" \
+"$fricrom" "${sweep[@]}" --steps "$steps" --threads 2 --out "$tmp/k" --resume > "$tmp/k.json" \
   || fail "the resumed run failed"
-"$py" - "$tmp/k.json" "$recorded" <<'PY' || fail "unit counts of the resumed run are wrong"
+"$py" - "$tmp/k.json" "$recorded" "$steps" <<'PY' || fail "unit counts of the resumed run are wrong"
 import json, sys
 u = json.load(open(sys.argv[1]))["units"]
 recorded = int(sys.argv[2])
 print(f"sweep_resume_test: killed after {recorded} of {u['total']} values; resumed {u['resumed']}, computed {u['computed']}")
-assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == 80, u
+assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == int(sys.argv[3]), u
 PY
 compare "$tmp/ref" "$tmp/k"
 ls -a "$tmp/k" | grep -q "tmp-" && fail "temporary files left in the output folder"
@@ -100,7 +102,7 @@ touch "$tmp/k/sweep.csv.tmp-999999"
 
 # --resume without anything to resume is an error (exit 2), not a silent fresh run.
 set +e
-"$fricrom" "${sweep[@]}" --steps 80 --out "$tmp/none" --resume > /dev/null 2> "$tmp/none.err"
+"$fricrom" "${sweep[@]}" --steps "$steps" --out "$tmp/none" --resume > /dev/null 2> "$tmp/none.err"
 code=$?
 set -e
 [ "$code" = 2 ] || fail "--resume with no journal: exit $code, expected 2"
@@ -111,7 +113,7 @@ grep -q "no journal" "$tmp/none.err" || fail "--resume with no journal: unclear 
 pid=$!
 for _ in $(seq 50); do [ -f "$tmp/busy/sweep.journal" ] && break; sleep 0.1; done
 set +e
-"$fricrom" "${sweep[@]}" --steps 80 --out "$tmp/busy" > /dev/null 2> "$tmp/busy.err"
+"$fricrom" "${sweep[@]}" --steps "$steps" --out "$tmp/busy" > /dev/null 2> "$tmp/busy.err"
 code=$?
 set -e
 kill -9 "$pid" 2>/dev/null || true
