@@ -7,7 +7,8 @@ Usage:
 
 Runs `fricrom bounds CASE --freq F --json` for each setting of each knob — Craig-Bampton modes
 per blade (--set blade_modes=N), AFT samples per period (--samples N), α per node pair or per
-interface (a copy of the case with `alpha = "interface"` on every interface) — and writes
+interface (a copy of the case with `alpha = "interface"` on every interface), harmonics H
+(--harmonics N) — on one thread, and writes
 OUT.json (every run: knob, value, wall time [s], y_min, y_max [m], R, status) and OUT.png (R and
 y_max against wall time per knob, the finest setting of each knob as its reference). The
 reduction a new mode count needs is done first by `fricrom modes` and not counted in the bound's
@@ -28,6 +29,7 @@ KNOBS = [
     ("CB modes per blade", "blade_modes", [4, 6, 10, 20, 40]),
     ("AFT samples per period", "samples", [16, 32, 64, 128, 256]),
     ("alpha grouping", "alpha", ["interface", "pair"]),
+    ("harmonics H", "harmonics", [1, 3, 5, 7]),
 ]
 
 
@@ -36,7 +38,9 @@ def arg(name, default):
 
 
 def bounds(fricrom, case, freq, extra):
-    cmd = [fricrom, "bounds", case, "--freq", str(freq), "--json", "--quiet"] + extra
+    # one thread: the wall times compare settings, not the machine's cores
+    cmd = [fricrom, "bounds", case, "--freq", str(freq), "--json", "--quiet", "--threads", "1"]
+    cmd += extra
     t0 = time.monotonic()
     p = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.monotonic() - t0
@@ -68,6 +72,8 @@ def run_all(fricrom, case, freq):
                 subprocess.run([fricrom, "modes", case] + extra, capture_output=True, check=True)
             elif knob == "samples":
                 extra = ["--samples", str(v)]
+            elif knob == "harmonics":
+                extra = ["--harmonics", str(v)]
             elif v == "interface":
                 target = interface_copy(case)
             try:
@@ -82,7 +88,7 @@ def run_all(fricrom, case, freq):
 
 
 def plot(runs, out_png, freq):
-    fig, axes = plt.subplots(1, len(KNOBS), figsize=(12, 3.8))
+    fig, axes = plt.subplots(1, len(KNOBS), figsize=(15, 3.8))
     for ax, (label, knob, values) in zip(axes, KNOBS):
         pts = [r for r in runs if r["knob"] == knob and r["R"] is not None]
         ref = pts[-1]
