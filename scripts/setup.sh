@@ -20,7 +20,7 @@ PACKAGES=(
   libmuparser-dev          # parameter expressions in case files
   nlohmann-json3-dev       # --json output
   python3-matplotlib python3-numpy python3-h5py   # figures (system /usr/bin/python3)
-  clang libclang-rt-14-dev # libFuzzer smoke run of the FE readers
+  clang libclang-rt-14-dev # libFuzzer smoke run of the FE readers; the ASan + UBSan build
   calculix-ccx             # regenerates the CalculiX fixtures and meshes/ (with gmsh)
   gmsh                     # blade-sector and damper geometry + meshing (scripts/make_meshes.sh)
   libopenblas0-pthread     # optimised BLAS/LAPACK for CHOLMOD (5x faster factor than reference BLAS)
