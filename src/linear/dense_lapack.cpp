@@ -362,6 +362,15 @@ bool SetBlasThreads(int threads) {
   void* symbol = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
   if (symbol == nullptr) return false;
   reinterpret_cast<SetThreads>(symbol)(threads);
+  if (threads == 1) {
+    // OpenBLAS starts its worker pool when it loads, and each idle worker spins (sched_yield) for
+    // about 0.1 s before it sleeps: CPU taken from our own threads or ranks (2 threads on the
+    // lumped γ sweep: 0.752 → 0.707 s without it). One thread never needs the pool, so it is
+    // stopped; OpenBLAS restarts it by itself if more threads are set later.
+    using Shutdown = int (*)();
+    void* stop = dlsym(RTLD_DEFAULT, "blas_thread_shutdown_");
+    if (stop != nullptr) reinterpret_cast<Shutdown>(stop)();
+  }
   return true;
 }
 
