@@ -15,6 +15,16 @@
 //     amplitude of the response DOF stops changing (steady_tolerance) or max_periods is reached.
 // The excitation phase is that of the HBM: period p covers t ∈ [pT, (p+1)T) and the loads are
 // cos/sin(hωt), so sample k of the last period is the HBM time sample θ_k = 2πk/N.
+//
+// Two schemes (TimeIntegrationOptions::scheme):
+//  - central differences (explicit, every DOF, exact law per step): lumped models, where the
+//    step set by the sampling is far inside the stability limit;
+//  - implicit modal (reduced FE models, whose stiff contact springs put ω_max in the MHz: the
+//    explicit step would need ~10⁴ steps per period): Newmark's average acceleration on the
+//    full-stick modes below modal_cutoff_factor × the excitation frequency, the modes above taken
+//    quasi-statically (residual flexibility, exact at ω = 0), and per step the contact law solved
+//    exactly on the contacts' relative displacements by a semismooth Newton method
+//    (modal_time_integration.cpp says how).
 #pragma once
 
 #include <Eigen/Dense>
@@ -28,27 +38,49 @@
 namespace fricrom {
 
 struct TimeIntegrationOptions {
+  enum class Scheme {
+    kAuto,               // central differences if stable at steps_per_period, else implicit modal
+    kCentralDifference,  // explicit; kUnstable (nothing integrated) beyond its stability limit
+    kImplicitModal,      // unconditionally stable; modes above the cutoff quasi-static
+  };
+  Scheme scheme = Scheme::kAuto;
   double freq_hz = 0.0;        // excitation frequency [Hz] (required)
   int steps_per_period = 256;  // time steps per excitation period (also the output sampling)
   int max_periods = 3000;      // gives up (kNotSettled) after this many periods
   int min_periods = 50;        // never declares steady state earlier
-  int ramp_periods = 20;       // smooth (half-cosine) ramp of the harmonic loads
-  int block_periods = 10;      // steady state is tested every block_periods periods
-  // Steady when |A_j − A_{j−1}| ≤ steady_tolerance · A_j, A_j the first-harmonic amplitude of
-  // the response DOF over the last period of block j (and the excitation is fully ramped in).
-  double steady_tolerance = 1e-6;
+  // Periods over which the harmonic loads are ramped in; −1: automatic (central differences 20,
+  // half-cosine ramp; implicit modal 300, infinitely smooth ramp: it leaves next to nothing in
+  // lightly damped free modes near the excitation).
+  int ramp_periods = -1;
+  int block_periods = 10;  // central differences: steady state is tested every block_periods
+  // Central differences: steady when |A_j − A_{j−1}| ≤ steady_tolerance · A_j, A_j the
+  // first-harmonic amplitude of the response DOF over the last period of block j.
+  // Implicit modal: A_j is the Hann-windowed first harmonic over window j of window_periods
+  // periods. A free mode that friction does not damp (all contacts stuck, modal damping ~1e-5)
+  // rings on for thousands of periods beside the forced response; the window separates the two
+  // (the forced part is exact, a mode detuned by Δf leaks ~(Δf·window)⁻³), so "steady" means the
+  // forced periodic response has settled. 0: automatic (1e-6 central, 1e-4 implicit modal).
+  double steady_tolerance = 0.0;
+  int window_periods = 200;
   // dt must satisfy ω_max dt ≤ stability_fraction · 2 (central-difference limit), ω_max from the
   // full-stick system (the stiffest state the contacts can take).
   double stability_fraction = 0.9;
+  // Implicit modal scheme: full-stick modes up to modal_cutoff_factor × freq_hz are integrated
+  // (the contact law's higher harmonics reach them; above, the response is quasi-static), at
+  // least one. A per-step contact solve that has not converged after max_contact_iterations
+  // Newton steps stops the run (kContactFailed).
+  double modal_cutoff_factor = 20.0;
+  int max_contact_iterations = 50;
   bool IsValid(std::string* error) const;
 };
 
 struct TimeIntegrationResult {
   enum class Status {
-    kSteadyState,   // settled within steady_tolerance
-    kNotSettled,    // max_periods reached (still drifting, or not periodic)
-    kUnstable,      // dt beyond the stability limit, or the solution blew up
-    kStaticFailed,  // no static equilibrium found for the prescribed α (singular / cycling)
+    kSteadyState,    // settled within steady_tolerance
+    kNotSettled,     // max_periods reached (still drifting, or not periodic)
+    kUnstable,       // dt beyond the stability limit, or the solution blew up
+    kStaticFailed,   // no static equilibrium found for the prescribed α (singular / cycling)
+    kContactFailed,  // implicit scheme: a step's contact solve did not converge
   };
   Status status = Status::kNotSettled;
   std::string message;
@@ -57,8 +89,16 @@ struct TimeIntegrationResult {
   double amplitude = std::numeric_limits<double>::quiet_NaN();
   int periods = 0;  // periods integrated (ramp included)
   int steps = 0;
-  double relative_change = 0.0;          // last block-to-block amplitude change / amplitude
+  double relative_change = 0.0;  // last block-to-block amplitude change / amplitude
+  // Implicit modal: spread (max − min)/max of the one-period amplitudes over the last window: the
+  // free vibration riding on the forced response (0 when the motion is periodic).
+  double free_vibration = 0.0;
   double stability_ratio = 0.0;          // ω_max dt / 2 (< 1 for a stable scheme)
+  std::string scheme;                    // "central-difference" or "implicit-modal"
+  int modes_integrated = 0;              // implicit modal: modes below the cutoff
+  double cutoff_hz = 0.0;                // implicit modal: the cutoff [Hz]
+  long long contact_iterations = 0;      // implicit modal: Newton steps over all time steps
+  int max_step_iterations = 0;           // implicit modal: the most Newton steps of one step
   Eigen::VectorXd static_displacement;   // q at t = 0 [m]
   Eigen::VectorXd last_period_response;  // response DOF at the N samples of the last period [m]
   Eigen::MatrixXd last_period_displacements;  // all DOFs (rows) × N samples [m]

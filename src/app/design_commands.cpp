@@ -161,6 +161,28 @@ void DesignCommands::Register(CLI::App& app) {
                    "Worker threads over the bounds, alpha samples and time integrations (0: every "
                    "core; same result for any)")
       ->check(CLI::Range(0, 4096));
+  TimeIntegrationOptions& to = s.time_options;
+  s.verify->add_option("--time-steps", to.steps_per_period, "Time steps per period (default 256)")
+      ->check(CLI::Range(8, 100000));
+  s.verify
+      ->add_option("--time-ramp", to.ramp_periods,
+                   "Periods over which the harmonic loads are ramped in (default: 20 for lumped "
+                   "models, 300 with a smooth ramp for FE models)")
+      ->check(CLI::Range(0, 1000000));
+  s.verify
+      ->add_option("--time-max-periods", to.max_periods,
+                   "Periods after which a run that has not settled stops (default 3000)")
+      ->check(CLI::Range(1, 10000000));
+  s.verify
+      ->add_option("--time-tolerance", to.steady_tolerance,
+                   "Steady when the amplitude changes less than this, relative (default: 1e-6 "
+                   "lumped, 1e-4 FE)")
+      ->check(CLI::Range(1e-12, 0.1));
+  s.verify
+      ->add_option("--time-cutoff", to.modal_cutoff_factor,
+                   "Implicit scheme (FE models): modes up to this multiple of --freq are "
+                   "integrated, the rest quasi-static (default 20)")
+      ->check(CLI::Range(1.0, 1e9));
 }
 
 int DesignCommands::Run() {
@@ -411,13 +433,20 @@ int DesignCommands::State::RunVerify() {
           SolveAtFrequency(lease.get(), alphas[k - 1], freq, Eigen::VectorXd(), FrfOptions{});
       return Num(p.status == SolverStatus::kConverged ? p.amplitude : NAN).dump();
     }
-    TimeIntegrationOptions to;
+    const auto t_run = std::chrono::steady_clock::now();
+    TimeIntegrationOptions to = time_options;
     to.freq_hz = freq;
+    to.min_periods = std::min(to.min_periods, to.max_periods);
     const TimeIntegrationResult r = IntegrateToSteadyState(c.model, ti_alphas[k - 1 - samples], to);
     return json{{"status", ToString(r.status)},
                 {"message", r.message},
                 {"amplitude", Num(r.amplitude)},
                 {"periods", r.periods},
+                {"scheme", r.scheme},
+                {"modes_integrated", r.modes_integrated},
+                {"relative_change", Num(r.relative_change)},
+                {"free_vibration", Num(r.free_vibration)},
+                {"wall_s", Seconds(t_run)},
                 {"states", RegimeNames(r.regimes)}}
         .dump();
   };

@@ -17,6 +17,7 @@
 #include "app/result_files.h"
 #include "fricrom/bounds.h"
 #include "fricrom/design.h"
+#include "fricrom/time_integration.h"
 #include "io/content_hash.h"
 
 namespace fricrom::app {
@@ -50,6 +51,7 @@ struct DesignCommands::State {
   std::string param, noa_objective = "eta-gap";
   bool no_sweep = false, resume = false;
   int threads = 0;
+  TimeIntegrationOptions time_options;  // verify: the time integrations (freq_hz set per run)
 
   BoundsOptions MakeBoundsOptions(const Case& c) const {
     const int nc = c.model.num_alpha();

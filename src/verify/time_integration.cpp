@@ -28,146 +28,24 @@
 #include "fricrom/contact_law.h"
 #include "fricrom/linear.h"
 #include "fricrom/units.h"
+#include "linear/dense_lapack.h"
+#include "verify/time_stepping.h"
 
 namespace fricrom {
+
+using time_stepping::ContactTerm;
+
+TimeIntegrationResult IntegrateImplicitModal(const Model& model, const Eigen::VectorXd& alpha,
+                                             const TimeIntegrationOptions& options,
+                                             const ModalResult& stick);
+
 namespace {
 
-// One contact's geometry (ground entries dropped) and its incremental law state.
-struct ContactTerm {
-  std::vector<int> dof_a, dof_b;  // DOF indices
-  std::vector<double> n_a, t_a;   // normal/tangent components on the side-A DOFs
-  std::vector<double> n_b, t_b;
-  double kn = 0.0, kt = 0.0, mu = 0.0, n0 = 0.0;
-  // Law state: tangential force and tangential displacement of the previous step.
-  double t_prev = 0.0, u_prev = 0.0;
-
-  void Relative(const Eigen::VectorXd& q, double* u, double* v) const {
-    double uu = 0.0, vv = 0.0;
-    for (size_t i = 0; i < dof_a.size(); ++i) {
-      uu += t_a[i] * q[dof_a[i]];
-      vv += n_a[i] * q[dof_a[i]];
-    }
-    for (size_t i = 0; i < dof_b.size(); ++i) {
-      uu -= t_b[i] * q[dof_b[i]];
-      vv -= n_b[i] * q[dof_b[i]];
-    }
-    *u = uu;
-    *v = vv;
-  }
-  // Adds the generalised contact force (+F on A, −F on B in the K q + F_C convention, i.e. the
-  // force N n + T t acting on B) to fc.
-  void Scatter(double normal, double tangential, Eigen::VectorXd* fc) const {
-    for (size_t i = 0; i < dof_a.size(); ++i) {
-      (*fc)[dof_a[i]] += normal * n_a[i] + tangential * t_a[i];
-    }
-    for (size_t i = 0; i < dof_b.size(); ++i) {
-      (*fc)[dof_b[i]] -= normal * n_b[i] + tangential * t_b[i];
-    }
-  }
-  // The contact law advanced by one sample: the same step as the AFT's (AdvanceContact).
-  ContactState Advance(double u, double v, double* normal, double* tangential) {
-    const ContactStep at = AdvanceContact(ContactLawParams{kn, kt, mu, n0}, t_prev, u - u_prev, v);
-    t_prev = at.tangential;
-    u_prev = u;
-    *normal = at.normal;
-    *tangential = at.tangential;
-    return at.state;
-  }
-};
-
-std::vector<ContactTerm> BuildContacts(const Model& model) {
-  std::vector<ContactTerm> terms;
-  for (const Contact& c : model.contacts) {
-    ContactTerm t;
-    for (size_t i = 0; i < c.dofs_a.size(); ++i) {
-      const auto ii = static_cast<Eigen::Index>(i);
-      if (c.dofs_a[i] >= 0) {
-        t.dof_a.push_back(c.dofs_a[i]);
-        t.n_a.push_back(c.normal[ii]);
-        t.t_a.push_back(c.tangent[ii]);
-      }
-      if (c.dofs_b[i] >= 0) {
-        t.dof_b.push_back(c.dofs_b[i]);
-        t.n_b.push_back(c.normal[ii]);
-        t.t_b.push_back(c.tangent[ii]);
-      }
-    }
-    t.kn = c.kn;
-    t.kt = c.kt;
-    t.mu = c.mu;
-    t.n0 = c.normal_preload;
-    terms.push_back(std::move(t));
-  }
-  return terms;
-}
-
-// Static equilibrium K q + F_C(q) = F0 with T = α μ N on every closed contact, by an active set on
-// the open/closed status. On a closed contact N = N0 + kn v is linear in q, so each active set is
-// one linear solve. Returns false (with a message) if singular or if the active set cycles.
-bool SolveStatic(const Model& model, const std::vector<ContactTerm>& terms,
-                 const Eigen::VectorXd& alpha, const Eigen::VectorXd& f0, Eigen::VectorXd* q,
-                 std::string* message) {
-  const int nc = static_cast<int>(terms.size());
-  std::vector<bool> closed(static_cast<size_t>(nc), true);
-  const int max_sets = 2 * nc + 10;
-  for (int iter = 0; iter < max_sets; ++iter) {
-    Eigen::MatrixXd a = model.stiffness;
-    Eigen::VectorXd rhs = f0;
-    for (int c = 0; c < nc; ++c) {
-      if (!closed[static_cast<size_t>(c)]) continue;
-      const ContactTerm& ct = terms[static_cast<size_t>(c)];
-      const double s = alpha[c] * ct.mu;
-      // Side A feels +N g with g = n + α μ t and N = N0 + kn (nᵀ q_A − nᵀ q_B); side B feels −N g.
-      auto add_row = [&](int dof, double g, double sign) {
-        rhs[dof] -= sign * ct.n0 * g;
-        for (size_t j = 0; j < ct.dof_a.size(); ++j)
-          a(dof, ct.dof_a[j]) += sign * ct.kn * g * ct.n_a[j];
-        for (size_t j = 0; j < ct.dof_b.size(); ++j)
-          a(dof, ct.dof_b[j]) -= sign * ct.kn * g * ct.n_b[j];
-      };
-      for (size_t i = 0; i < ct.dof_a.size(); ++i)
-        add_row(ct.dof_a[i], ct.n_a[i] + s * ct.t_a[i], 1.0);
-      for (size_t i = 0; i < ct.dof_b.size(); ++i)
-        add_row(ct.dof_b[i], ct.n_b[i] + s * ct.t_b[i], -1.0);
-    }
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-    if (!lu.isInvertible()) {
-      *message = "static problem is singular (unconstrained DOFs with the current contact set)";
-      return false;
-    }
-    *q = lu.solve(rhs);
-    if (!q->allFinite()) {
-      *message = "static solution is not finite";
-      return false;
-    }
-    bool changed = false;
-    for (int c = 0; c < nc; ++c) {
-      double u, v;
-      terms[static_cast<size_t>(c)].Relative(*q, &u, &v);
-      const ContactTerm& ct = terms[static_cast<size_t>(c)];
-      const bool now_closed = ct.n0 + ct.kn * v > 0.0;
-      if (now_closed != closed[static_cast<size_t>(c)]) {
-        closed[static_cast<size_t>(c)] = now_closed;
-        changed = true;
-      }
-    }
-    if (!changed) return true;
-  }
-  *message = "static contact status did not settle (open/closed set cycles)";
-  return false;
-}
-
-double FirstHarmonicAmplitude(const Eigen::VectorXd& samples, const Eigen::VectorXd& cos_table,
-                              const Eigen::VectorXd& sin_table) {
-  const double scale = 2.0 / static_cast<double>(samples.size());
-  return std::hypot(scale * samples.dot(cos_table), scale * samples.dot(sin_table));
-}
-
-// Half-cosine ramp 0 → 1 over [0, t_ramp]: continuous with a continuous first derivative.
-double Ramp(double t, double t_ramp) {
-  if (t_ramp <= 0.0 || t >= t_ramp) return 1.0;
-  return 0.5 * (1.0 - std::cos(std::numbers::pi * t / t_ramp));
-}
+// Central differences from the static state (file comment); stick: the full-stick modes.
+TimeIntegrationResult IntegrateCentralDifference(const Model& model,
+                                                 const Eigen::VectorXd& initial_alpha,
+                                                 const TimeIntegrationOptions& options,
+                                                 double omega_max);
 
 }  // namespace
 
@@ -186,17 +64,30 @@ bool TimeIntegrationOptions::IsValid(std::string* error) const {
     return fail("need 1 <= min_periods <= max_periods, got " + std::to_string(min_periods) +
                 " and " + std::to_string(max_periods));
   }
-  if (ramp_periods < 0 || ramp_periods >= max_periods) {
-    return fail("ramp_periods must lie in [0, max_periods), got " + std::to_string(ramp_periods));
+  if (ramp_periods < -1 || ramp_periods >= max_periods) {
+    return fail("ramp_periods must be -1 (automatic) or lie in [0, max_periods), got " +
+                std::to_string(ramp_periods));
+  }
+  if (window_periods < 1) {
+    return fail("window_periods must be >= 1, got " + std::to_string(window_periods));
   }
   if (block_periods < 1) {
     return fail("block_periods must be >= 1, got " + std::to_string(block_periods));
   }
-  if (!(std::isfinite(steady_tolerance) && steady_tolerance > 0.0)) {
-    return fail("steady_tolerance must be finite and > 0, got " + std::to_string(steady_tolerance));
+  if (!(std::isfinite(steady_tolerance) && steady_tolerance >= 0.0)) {
+    return fail("steady_tolerance must be finite and >= 0 (0: automatic), got " +
+                std::to_string(steady_tolerance));
   }
   if (!(stability_fraction > 0.0 && stability_fraction <= 1.0)) {
     return fail("stability_fraction must lie in (0, 1], got " + std::to_string(stability_fraction));
+  }
+  if (!(std::isfinite(modal_cutoff_factor) && modal_cutoff_factor >= 1.0)) {
+    return fail("modal_cutoff_factor must be finite and >= 1, got " +
+                std::to_string(modal_cutoff_factor));
+  }
+  if (max_contact_iterations < 1) {
+    return fail("max_contact_iterations must be >= 1, got " +
+                std::to_string(max_contact_iterations));
   }
   return true;
 }
@@ -211,13 +102,14 @@ std::string ToString(TimeIntegrationResult::Status status) {
       return "unstable";
     case TimeIntegrationResult::Status::kStaticFailed:
       return "static-failed";
+    case TimeIntegrationResult::Status::kContactFailed:
+      return "contact-failed";
   }
   return "unknown";
 }
 
 TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& alpha,
                                              const TimeIntegrationOptions& options) {
-  using Status = TimeIntegrationResult::Status;
   std::string error;
   if (!options.IsValid(&error)) {
     throw std::invalid_argument("IntegrateToSteadyState: " + error);
@@ -238,14 +130,55 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
     }
   }
 
+  // The full-stick system is the stiffest state the contacts can take: its ω_max sets the
+  // explicit limit, its modes are the implicit scheme's basis (throws if M is not positive
+  // definite). FE-sized systems use LAPACK's dsygvd; small ones keep Eigen's solver, bit for bit.
+  ModalResult stick;
+  if (n <= 200) {
+    stick = StickSystemModes(model);
+  } else {
+    Eigen::VectorXd lambda;
+    if (!dense::SymmetricGeneralizedEigen(model.stiffness + ContactStickStiffness(model),
+                                          model.mass, &lambda, &stick.shapes)) {
+      throw std::invalid_argument("IntegrateToSteadyState: mass matrix is not positive definite");
+    }
+    stick.frequencies_hz = lambda.unaryExpr(&HzFromEigenvalue);
+  }
+  const double omega_max = RadPerS(stick.frequencies_hz.maxCoeff());
+  const double ratio = omega_max / (options.freq_hz * options.steps_per_period) / 2.0;
+  TimeIntegrationOptions resolved = options;
+  if (options.scheme == TimeIntegrationOptions::Scheme::kImplicitModal ||
+      (options.scheme == TimeIntegrationOptions::Scheme::kAuto &&
+       ratio > options.stability_fraction)) {
+    if (resolved.ramp_periods < 0) resolved.ramp_periods = 300;
+    if (resolved.steady_tolerance == 0.0) resolved.steady_tolerance = 1e-4;
+    resolved.max_periods = std::max(resolved.max_periods, resolved.ramp_periods + 1);
+    TimeIntegrationResult r = IntegrateImplicitModal(model, initial_alpha, resolved, stick);
+    r.stability_ratio = ratio;
+    return r;
+  }
+  if (resolved.ramp_periods < 0) resolved.ramp_periods = 20;
+  if (resolved.steady_tolerance == 0.0) resolved.steady_tolerance = 1e-6;
+  resolved.max_periods = std::max(resolved.max_periods, resolved.ramp_periods + 1);
+  return IntegrateCentralDifference(model, initial_alpha, resolved, omega_max);
+}
+
+namespace {
+
+TimeIntegrationResult IntegrateCentralDifference(const Model& model,
+                                                 const Eigen::VectorXd& initial_alpha,
+                                                 const TimeIntegrationOptions& options,
+                                                 double omega_max) {
+  using Status = TimeIntegrationResult::Status;
+  using time_stepping::FinishResult;
+  const int n = model.num_dofs();
+  const int nc = static_cast<int>(model.contacts.size());
+  std::string error;
   TimeIntegrationResult result;
+  result.scheme = "central-difference";
   const int ns = options.steps_per_period;
   const double period = 1.0 / options.freq_hz;
   const double dt = period / ns;
-
-  // Stability: the full-stick system is the stiffest state (throws if M is not positive definite).
-  const ModalResult stick = StickSystemModes(model);
-  const double omega_max = RadPerS(stick.frequencies_hz.maxCoeff());
   result.stability_ratio = omega_max * dt / 2.0;
   if (result.stability_ratio > options.stability_fraction) {
     std::ostringstream s;
@@ -276,22 +209,15 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
   }
 
   // Static state for the prescribed α.
-  std::vector<ContactTerm> terms = BuildContacts(model);
+  std::vector<ContactTerm> terms = time_stepping::BuildContacts(model);
   Eigen::VectorXd q;
-  if (!SolveStatic(model, terms, initial_alpha, f0, &q, &error)) {
+  if (!time_stepping::SolveStatic(model, terms, initial_alpha, f0, &q, &error)) {
     result.status = Status::kStaticFailed;
     result.message = error;
     return result;
   }
   result.static_displacement = q;
-  for (int c = 0; c < nc; ++c) {
-    ContactTerm& ct = terms[static_cast<size_t>(c)];
-    double u, v;
-    ct.Relative(q, &u, &v);
-    const double nk = std::max(ct.n0 + ct.kn * v, 0.0);
-    ct.u_prev = u;
-    ct.t_prev = nk > 0.0 ? initial_alpha[c] * ct.mu * nk : 0.0;
-  }
+  time_stepping::SeatContacts(q, initial_alpha, &terms);
 
   // Central-difference operators: q_{n+1} = A⁻¹(F − F_C) + P q_n + Q q_{n−1}.
   const Eigen::MatrixXd lhs = model.mass / (dt * dt) + model.damping / (2.0 * dt);
@@ -314,7 +240,7 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
 
   const double t_ramp = options.ramp_periods * period;
   Eigen::VectorXd q_prev(n), q_next(n), force(n), fc(n);
-  double prev_block_amplitude = -1.0;  // amplitude at the previous fully excited block end
+  time_stepping::SteadyTest steady(options);
   double amplitude = 0.0;
   result.status = Status::kNotSettled;
 
@@ -332,7 +258,7 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
         norm(c, k) = nk;
       }
       disp.col(k) = q;
-      force = f0 + Ramp(t, t_ramp) * fh.col(k) - fc;
+      force = f0 + time_stepping::Ramp(t, t_ramp) * fh.col(k) - fc;
       if (p == 0 && k == 0) {
         // Start from rest: q_{−1} = q_0 + dt²/2 q̈_0 (q̇_0 = 0).
         const Eigen::VectorXd acc = model.mass.llt().solve(force - model.stiffness * q);
@@ -352,41 +278,19 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
       result.message = "solution blew up (non-finite) in period " + std::to_string(done);
       break;
     }
-    amplitude =
-        FirstHarmonicAmplitude(disp.row(model.response_dof).transpose(), cos_table, sin_table);
-    if (done % options.block_periods != 0 || done <= options.ramp_periods) continue;
-    if (prev_block_amplitude >= 0.0) {
-      const double diff = std::abs(amplitude - prev_block_amplitude);
-      result.relative_change = diff == 0.0 ? 0.0 : diff / std::max(amplitude, 1e-300);
-      if (result.relative_change <= options.steady_tolerance && done >= options.min_periods) {
-        result.status = Status::kSteadyState;
-        break;
-      }
-    }
-    prev_block_amplitude = amplitude;
+    amplitude = time_stepping::FirstHarmonicAmplitude(disp.row(model.response_dof).transpose(),
+                                                      cos_table, sin_table);
+    if (steady.Settled(done, amplitude, &result)) break;
   }
 
-  result.amplitude = amplitude;
-  result.last_period_displacements = disp;
-  result.last_period_response = disp.row(model.response_dof).transpose();
-  result.last_period_tangential = tang;
-  result.last_period_normal = norm;
-  result.regimes.clear();
-  result.equivalent_alpha = Eigen::VectorXd::Zero(nc);
-  for (int c = 0; c < nc; ++c) {
-    result.regimes.push_back(ClassifyRegime(states[static_cast<size_t>(c)]));
-    const double limit = model.contacts[static_cast<size_t>(c)].mu * norm(c, 0);
-    if (limit > 0.0) result.equivalent_alpha[c] = std::clamp(tang(c, 0) / limit, -1.0, 1.0);
-  }
+  // A blown-up run keeps amplitude NaN: a failed run is never a number.
   if (result.status != Status::kUnstable) {
-    std::ostringstream s;
-    s << (result.status == Status::kSteadyState ? "steady state" : "not settled") << " after "
-      << result.periods << " periods (relative amplitude change " << result.relative_change
-      << ", tolerance " << options.steady_tolerance << ")";
-    result.message = s.str();
+    FinishResult(model, disp, tang, norm, states, amplitude, options, &result);
   }
   return result;
 }
+
+}  // namespace
 
 Eigen::VectorXd LastPeriodCoefficients(const TimeIntegrationResult& result, int harmonics) {
   const Eigen::MatrixXd& d = result.last_period_displacements;

@@ -1,0 +1,395 @@
+// Implicit modal time integration (time_integration.h, scheme kImplicitModal).
+//
+// With K_s = K + Σ (contact stick springs), the full-stick stiffness, the contact forces split
+// into their stick-linear part and the rest: F_C = K_c q + Dᵀ g̃, where D stacks each contact's
+// relative displacements d_c = (u, v) and g̃_c = (T − kt u, N − kn v). Then
+//   M q̈ + C q̇ + K_s q = F w(t) − Dᵀ g̃(d, history).
+// The full-stick modes Φ below the cutoff carry the dynamics and the rest respond quasi-
+// statically: q = Φ η + R (F w − Dᵀ g̃), with the residual flexibility R = K_s⁻¹ − Φ Λ⁻¹ Φᵀ (exact
+// at ω = 0; the modes above the cutoff are ≥ 20× the excitation by default). Newmark's average
+// acceleration on η (unconditionally stable, no numerical damping) makes the contact rows at
+// t_{n+1} an affine function of that step's g̃:
+//   d = d₀ − S g̃(d),   S = β dt² Ψ M_eff⁻¹ Ψᵀ + D R Dᵀ,   Ψ = D Φ,
+// solved per step by a semismooth Newton method: g̃ is piecewise linear in d (constant in stick,
+// slope −kt/−kn in slip and lift-off), so only slipping or open rows enter the Newton matrix
+// (I + G S)_RR, and once the stick/slip/lift-off set is right the step is exact. The law is
+// AdvanceContact (the AFT's), applied from the last step's committed state, as in the explicit
+// scheme. A step costs O(m·(k + changed rows)) while everything sticks.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fricrom/linear.h"
+#include "fricrom/time_integration.h"
+#include "fricrom/units.h"
+#include "verify/time_stepping.h"
+
+namespace fricrom {
+namespace {
+
+using time_stepping::ContactTerm;
+constexpr double kBeta = 0.25, kGamma = 0.5;  // average acceleration
+
+// The constant operators of one (model, dt, cutoff).
+struct ModalOperators {
+  Eigen::MatrixXd phi;     // n × k kept modes (M-orthonormal)
+  Eigen::VectorXd lambda;  // k eigenvalues [rad²/s²]
+  Eigen::MatrixXd psi;     // m × k  D Φ
+  Eigen::MatrixXd phi_f;   // k × nL Φᵀ F
+  Eigen::MatrixXd ck;      // k × k  Φᵀ C Φ
+  Eigen::MatrixXd m_inv;   // k × k  (I + γ dt C_k + β dt² Λ)⁻¹
+  Eigen::MatrixXd r_dt;    // n × m  R Dᵀ
+  Eigen::MatrixXd r_f;     // n × nL R F
+  Eigen::MatrixXd s;       // m × m
+  Eigen::MatrixXd e;       // m × nL β dt² Ψ M_eff⁻¹ Φᵀ F + D R F
+};
+
+// Relative-displacement rows: 2c = u_c (tangent), 2c + 1 = v_c (normal).
+Eigen::MatrixXd RelativeRows(const std::vector<ContactTerm>& terms, int n) {
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(2 * static_cast<Eigen::Index>(terms.size()), n);
+  for (size_t c = 0; c < terms.size(); ++c) {
+    const ContactTerm& t = terms[c];
+    const auto ru = static_cast<Eigen::Index>(2 * c), rv = ru + 1;
+    for (size_t i = 0; i < t.dof_a.size(); ++i) {
+      d(ru, t.dof_a[i]) += t.t_a[i];
+      d(rv, t.dof_a[i]) += t.n_a[i];
+    }
+    for (size_t i = 0; i < t.dof_b.size(); ++i) {
+      d(ru, t.dof_b[i]) -= t.t_b[i];
+      d(rv, t.dof_b[i]) -= t.n_b[i];
+    }
+  }
+  return d;
+}
+
+// False (with a message) if the full-stick stiffness is not positive definite.
+bool BuildOperators(const Model& model, const ModalResult& stick, const Eigen::MatrixXd& d,
+                    const Eigen::MatrixXd& f, double dt, double cutoff_hz, ModalOperators* op,
+                    std::string* message) {
+  Eigen::Index k = 0;
+  while (k < stick.frequencies_hz.size() && stick.frequencies_hz[k] <= cutoff_hz) ++k;
+  k = std::max<Eigen::Index>(k, 1);
+  op->phi = stick.shapes.leftCols(k);
+  op->lambda =
+      stick.frequencies_hz.head(k).unaryExpr([](double hz) { return EigenvalueFromHz(hz); });
+  const Eigen::LLT<Eigen::MatrixXd> ks(model.stiffness + ContactStickStiffness(model));
+  if (ks.info() != Eigen::Success) {
+    *message = "full-stick stiffness is not positive definite (a body without support?)";
+    return false;
+  }
+  const Eigen::MatrixXd inv_lambda_phi_t =
+      op->lambda.cwiseInverse().asDiagonal() * op->phi.transpose();
+  op->psi = d * op->phi;
+  op->phi_f = op->phi.transpose() * f;
+  op->r_dt = ks.solve(d.transpose()) - op->phi * (inv_lambda_phi_t * d.transpose());
+  op->r_f = ks.solve(f) - op->phi * (inv_lambda_phi_t * f);
+  op->ck = op->phi.transpose() * model.damping * op->phi;
+  if (std::getenv("FRICROM_DEBUG_MODES")) {
+    for (Eigen::Index i = 0; i < k; ++i)
+      fprintf(stderr, "mode %ld %.1f Hz zeta %.3e\n", (long)i, stick.frequencies_hz[i],
+              op->ck(i, i) / (2 * std::sqrt(op->lambda[i])));
+  }
+  Eigen::MatrixXd m_eff = kGamma * dt * op->ck;
+  m_eff.diagonal().array() += 1.0 + kBeta * dt * dt * op->lambda.array();
+  op->m_inv = m_eff.inverse();
+  const double b = kBeta * dt * dt;
+  op->s = b * op->psi * op->m_inv * op->psi.transpose() + d * op->r_dt;
+  op->s = 0.5 * (op->s + op->s.transpose()).eval();  // symmetric in exact arithmetic
+  op->e = b * op->psi * (op->m_inv * op->phi_f) + d * op->r_f;
+  return true;
+}
+
+// One contact evaluated at trial relative displacements, from its committed state.
+struct ContactTrial {
+  double normal = 0.0, tangential = 0.0;
+  ContactState state = ContactState::kStick;
+};
+
+// Per-step solve of d + S g̃(d) = d₀ (file comment). g̃, sg = S g̃ and trials are updated in
+// place, d is returned in solution; returns the Newton steps taken, or −1 if not converged.
+class ContactStepSolver {
+ public:
+  ContactStepSolver(const std::vector<ContactTerm>& terms, const Eigen::MatrixXd& s)
+      : terms_(terms), s_(s) {}
+
+  int Solve(const Eigen::VectorXd& d0, int max_iterations, Eigen::VectorXd* g, Eigen::VectorXd* sg,
+            std::vector<ContactTrial>* trials, Eigen::VectorXd* solution) {
+    Eigen::VectorXd& d = *solution;
+    d = d0 - *sg;  // predictor: last step's forces
+    const double scale = std::max(d0.lpNorm<Eigen::Infinity>(), 1e-300);
+    double last_norm = INFINITY;
+    for (int it = 1; it <= max_iterations; ++it) {
+      Evaluate(d, g, sg, trials);
+      const Eigen::VectorXd f = d + *sg - d0;
+      const double norm = f.lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(norm)) return -1;
+      if (norm <= 1e-11 * scale) return it;
+      Eigen::VectorXd delta = NewtonStep(f, *trials);
+      // Semismooth Newton on a piecewise-linear map can cycle between two active sets at a
+      // kink: a growing residual late in the iteration halves the step.
+      if (it > 8 && norm >= last_norm) delta *= 0.5;
+      last_norm = norm;
+      d += delta;
+    }
+    return -1;
+  }
+
+ private:
+  // g̃(d) with sg kept equal to S g̃ by column updates of the rows that changed.
+  void Evaluate(const Eigen::VectorXd& d, Eigen::VectorXd* g, Eigen::VectorXd* sg,
+                std::vector<ContactTrial>* trials) const {
+    for (size_t c = 0; c < terms_.size(); ++c) {
+      const ContactTerm& t = terms_[c];
+      const auto ru = static_cast<Eigen::Index>(2 * c), rv = ru + 1;
+      const ContactStep step = AdvanceContact(t.Params(), t.t_prev, d[ru] - t.u_prev, d[rv]);
+      (*trials)[c] = ContactTrial{step.normal, step.tangential, step.state};
+      const double gu = step.tangential - t.kt * d[ru], gv = step.normal - t.kn * d[rv];
+      if (gu != (*g)[ru]) {
+        sg->noalias() += s_.col(ru) * (gu - (*g)[ru]);
+        (*g)[ru] = gu;
+      }
+      if (gv != (*g)[rv]) {
+        sg->noalias() += s_.col(rv) * (gv - (*g)[rv]);
+        (*g)[rv] = gv;
+      }
+    }
+  }
+
+  // Δ of (I + S G) Δ = −f with G = ∂g̃/∂d, nonzero only on slipping or open rows.
+  Eigen::VectorXd NewtonStep(const Eigen::VectorXd& f, const std::vector<ContactTrial>& trials) {
+    rows_.clear();
+    entries_.clear();
+    for (size_t c = 0; c < terms_.size(); ++c) {
+      const ContactTerm& t = terms_[c];
+      const auto ru = static_cast<Eigen::Index>(2 * c), rv = ru + 1;
+      switch (trials[c].state) {
+        case ContactState::kStick:
+          break;
+        case ContactState::kSlipPositive:
+        case ContactState::kSlipNegative: {
+          const double sign = trials[c].state == ContactState::kSlipPositive ? 1.0 : -1.0;
+          rows_.push_back(ru);
+          entries_.push_back({ru, -t.kt, rv, sign * t.mu * t.kn});
+          break;
+        }
+        case ContactState::kLiftOff:
+          rows_.push_back(ru);
+          entries_.push_back({ru, -t.kt, rv, 0.0});
+          rows_.push_back(rv);
+          entries_.push_back({rv, -t.kn, rv, 0.0});
+          break;
+      }
+    }
+    const auto r = static_cast<Eigen::Index>(rows_.size());
+    if (r == 0) return -f;
+    Eigen::MatrixXd a = Eigen::MatrixXd::Identity(r, r);
+    Eigen::VectorXd b(r);
+    for (Eigen::Index i = 0; i < r; ++i) {
+      const Entry& en = entries_[static_cast<size_t>(i)];
+      b[i] = -(en.g1 * f[en.col1] + en.g2 * f[en.col2]);
+      for (Eigen::Index j = 0; j < r; ++j) {
+        const Eigen::Index rj = rows_[static_cast<size_t>(j)];
+        a(i, j) += en.g1 * s_(en.col1, rj) + en.g2 * s_(en.col2, rj);
+      }
+    }
+    const Eigen::VectorXd z = a.partialPivLu().solve(b);
+    Eigen::VectorXd delta = -f;
+    for (Eigen::Index j = 0; j < r; ++j) delta.noalias() -= s_.col(rows_[j]) * z[j];
+    return delta;
+  }
+
+  struct Entry {
+    Eigen::Index col1;
+    double g1;
+    Eigen::Index col2;
+    double g2;
+  };
+  const std::vector<ContactTerm>& terms_;
+  const Eigen::MatrixXd& s_;
+  std::vector<Eigen::Index> rows_;
+  std::vector<Entry> entries_;
+};
+
+// First-harmonic amplitude of a window of samples (whole periods) under a Hann window: exact for
+// a periodic signal of the excitation's period (the window's lines miss every other harmonic),
+// while a component detuned by Δf leaks only ~(Δf·T_window)⁻³ of its amplitude.
+class HannWindow {
+ public:
+  HannWindow(int length, int steps_per_period) : length_(length), per_period_(steps_per_period) {}
+  void Add(double y) {
+    const double x = static_cast<double>(count_) / length_;
+    const double w = std::sin(std::numbers::pi * x) * std::sin(std::numbers::pi * x);
+    const double theta = kTwoPi * static_cast<double>(count_ % per_period_) / per_period_;
+    re_ += w * y * std::cos(theta);
+    im_ += w * y * std::sin(theta);
+    weight_ += w;
+    ++count_;
+  }
+  bool Full() const { return count_ == length_; }
+  // The window's amplitude; starts the next window.
+  double Amplitude() {
+    const double a = 2.0 * std::hypot(re_, im_) / weight_;
+    count_ = 0;
+    re_ = im_ = weight_ = 0.0;
+    return a;
+  }
+
+ private:
+  int length_, per_period_;
+  int count_ = 0;
+  double re_ = 0.0, im_ = 0.0, weight_ = 0.0;
+};
+
+}  // namespace
+
+// Declared in time_integration.cpp, which validates the inputs and computes the stick modes.
+TimeIntegrationResult IntegrateImplicitModal(const Model& model,
+                                             const Eigen::VectorXd& initial_alpha,
+                                             const TimeIntegrationOptions& options,
+                                             const ModalResult& stick) {
+  using Status = TimeIntegrationResult::Status;
+  namespace ts = time_stepping;
+  const int n = model.num_dofs();
+  const int nc = static_cast<int>(model.contacts.size());
+  const int ns = options.steps_per_period;
+  const double period = 1.0 / options.freq_hz, dt = period / ns;
+  TimeIntegrationResult result;
+  result.scheme = "implicit-modal";
+  result.cutoff_hz = options.modal_cutoff_factor * options.freq_hz;
+
+  std::vector<ContactTerm> terms = ts::BuildContacts(model);
+  const ts::LoadBasis loads = ts::BuildLoadBasis(model);
+  const Eigen::MatrixXd d_rows = RelativeRows(terms, n);
+  ModalOperators op;
+  if (!BuildOperators(model, stick, d_rows, loads.vectors, dt, result.cutoff_hz, &op,
+                      &result.message)) {
+    result.status = Status::kUnstable;
+    return result;
+  }
+  result.modes_integrated = static_cast<int>(op.phi.cols());
+
+  // Static state for the prescribed α, then the modal state at rest that reproduces it.
+  Eigen::VectorXd q;
+  if (!ts::SolveStatic(model, terms, initial_alpha, loads.vectors.col(0), &q, &result.message)) {
+    result.status = Status::kStaticFailed;
+    return result;
+  }
+  result.static_displacement = q;
+  ts::SeatContacts(q, initial_alpha, &terms);
+  const Eigen::VectorXd d_static = d_rows * q;
+  Eigen::VectorXd g(2 * nc);
+  std::vector<ContactTrial> trials(static_cast<size_t>(nc));
+  for (int c = 0; c < nc; ++c) {
+    const ContactTerm& t = terms[static_cast<size_t>(c)];
+    const double nk = std::max(t.n0 + t.kn * d_static[2 * c + 1], 0.0);
+    trials[static_cast<size_t>(c)] = {nk, t.t_prev,
+                                      nk > 0.0 ? ContactState::kStick : ContactState::kLiftOff};
+    g[2 * c] = t.t_prev - t.kt * d_static[2 * c];
+    g[2 * c + 1] = nk - t.kn * d_static[2 * c + 1];
+  }
+  Eigen::VectorXd sg = op.s * g;
+  Eigen::VectorXd eta = op.phi.transpose() * model.mass * q;
+  Eigen::VectorXd eta_d = Eigen::VectorXd::Zero(eta.size());
+  Eigen::VectorXd eta_dd = op.phi_f.col(0) - op.psi.transpose() * g - op.lambda.cwiseProduct(eta);
+
+  const auto k = op.phi.cols();
+  const auto nl = loads.vectors.cols();
+  Eigen::MatrixXd etas(k, ns), gs(2 * nc, ns), ws(nl, ns), tang(nc, ns), norm(nc, ns);
+  Eigen::VectorXd resp(ns), cos_table(ns), sin_table(ns);
+  for (int s = 0; s < ns; ++s) {
+    cos_table[s] = std::cos(kTwoPi * s / ns);
+    sin_table[s] = std::sin(kTwoPi * s / ns);
+  }
+  std::vector<std::vector<ContactState>> states(static_cast<size_t>(nc),
+                                                std::vector<ContactState>(static_cast<size_t>(ns)));
+  const Eigen::RowVectorXd phi_e = op.phi.row(model.response_dof);
+  const Eigen::RowVectorXd rf_e = op.r_f.row(model.response_dof);
+  const Eigen::RowVectorXd rdt_e = op.r_dt.row(model.response_dof);
+  const double t_ramp = options.ramp_periods * period, b = kBeta * dt * dt;
+  ContactStepSolver solver(terms, op.s);
+  HannWindow window(options.window_periods * ns, ns);
+  double amplitude = NAN, window_amplitude = -1.0, period_min = INFINITY, period_max = 0.0;
+  Eigen::VectorXd w = loads.Weights(0, ns, 0.0), d(2 * nc);
+  result.status = Status::kNotSettled;
+  for (int p = 0; p < options.max_periods && result.status == Status::kNotSettled; ++p) {
+    for (int s = 0; s < ns; ++s) {
+      // Sample s of period p: the state at t = (p N + s) dt.
+      etas.col(s) = eta;
+      gs.col(s) = g;
+      ws.col(s) = w;
+      resp[s] = phi_e.dot(eta) + rf_e.dot(w) - rdt_e.dot(g);
+      for (int c = 0; c < nc; ++c) {
+        const ContactTrial& tr = trials[static_cast<size_t>(c)];
+        tang(c, s) = tr.tangential;
+        norm(c, s) = tr.normal;
+        states[static_cast<size_t>(c)][static_cast<size_t>(s)] = tr.state;
+      }
+      // Advance to t_{n+1}.
+      const long long step = static_cast<long long>(p) * ns + s + 1;
+      w = loads.Weights(step, ns, ts::SmoothRamp(static_cast<double>(step) * dt, t_ramp));
+      const Eigen::VectorXd eta_s = eta + dt * eta_d + (0.5 - kBeta) * dt * dt * eta_dd;
+      const Eigen::VectorXd eta_ds = eta_d + (1.0 - kGamma) * dt * eta_dd;
+      const Eigen::VectorXd inner = op.ck * eta_ds + op.lambda.cwiseProduct(eta_s);
+      const Eigen::VectorXd d0 = op.psi * (eta_s - b * (op.m_inv * inner)) + op.e * w;
+      const int its = solver.Solve(d0, options.max_contact_iterations, &g, &sg, &trials, &d);
+      if (its < 0) {
+        std::ostringstream m;
+        m << "contact solve did not converge in " << options.max_contact_iterations
+          << " Newton steps at t = " << static_cast<double>(step) * dt << " s (period " << p + 1
+          << ", step " << s + 1 << ")";
+        result.status = Status::kContactFailed;
+        result.message = m.str();
+        break;
+      }
+      result.contact_iterations += its;
+      result.max_step_iterations = std::max(result.max_step_iterations, its);
+      for (int c = 0; c < nc; ++c) {  // commit the law's state
+        ContactTerm& t = terms[static_cast<size_t>(c)];
+        t.t_prev = trials[static_cast<size_t>(c)].tangential;
+        t.u_prev = d[2 * c];
+      }
+      eta_dd = op.m_inv * (op.phi_f * w - op.psi.transpose() * g - inner);
+      eta = eta_s + b * eta_dd;
+      eta_d = eta_ds + kGamma * dt * eta_dd;
+    }
+    if (result.status != Status::kNotSettled) break;
+    const int done = p + 1;
+    result.periods = done;
+    result.steps = done * ns;
+    if (!eta.allFinite() || !resp.allFinite()) {
+      result.status = Status::kUnstable;
+      result.message = "solution blew up (non-finite) in period " + std::to_string(done);
+      break;
+    }
+    if (done <= options.ramp_periods) continue;
+    const double one_period = ts::FirstHarmonicAmplitude(resp, cos_table, sin_table);
+    period_min = std::min(period_min, one_period);
+    period_max = std::max(period_max, one_period);
+    for (int s = 0; s < ns; ++s) window.Add(resp[s]);
+    if (!window.Full()) continue;
+    amplitude = window.Amplitude();
+    result.free_vibration = (period_max - period_min) / period_max;
+    period_min = INFINITY;
+    period_max = 0.0;
+    if (window_amplitude >= 0.0) {
+      result.relative_change = std::abs(amplitude - window_amplitude) / std::max(amplitude, 1e-300);
+      if (result.relative_change <= options.steady_tolerance && done >= options.min_periods) {
+        result.status = Status::kSteadyState;
+      }
+    }
+    window_amplitude = amplitude;
+  }
+  if (result.status == Status::kContactFailed || result.status == Status::kUnstable) {
+    return result;  // amplitude stays NaN: a failed run is never a number
+  }
+  const Eigen::MatrixXd disp = op.phi * etas + op.r_f * ws - op.r_dt * gs;
+  ts::FinishResult(model, disp, tang, norm, states, amplitude, options, &result);
+  return result;
+}
+
+}  // namespace fricrom
