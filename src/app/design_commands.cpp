@@ -446,6 +446,9 @@ int DesignCommands::State::RunVerify() {
                 {"modes_integrated", r.modes_integrated},
                 {"relative_change", Num(r.relative_change)},
                 {"free_vibration", Num(r.free_vibration)},
+                // T/μN at the start of the last period, per contact: the α of the HBM member
+                // this steady state is (e.g. a --seeds entry of `bounds` when α is per contact).
+                {"equivalent_alpha", ToStd(r.equivalent_alpha)},
                 {"wall_s", Seconds(t_run)},
                 {"states", RegimeNames(r.regimes)}}
         .dump();

@@ -17,8 +17,6 @@
 // scheme. A step costs O(m·(k + changed rows)) while everything sticks.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -89,11 +87,6 @@ bool BuildOperators(const Model& model, const ModalResult& stick, const Eigen::M
   op->r_dt = ks.solve(d.transpose()) - op->phi * (inv_lambda_phi_t * d.transpose());
   op->r_f = ks.solve(f) - op->phi * (inv_lambda_phi_t * f);
   op->ck = op->phi.transpose() * model.damping * op->phi;
-  if (std::getenv("FRICROM_DEBUG_MODES")) {
-    for (Eigen::Index i = 0; i < k; ++i)
-      fprintf(stderr, "mode %ld %.1f Hz zeta %.3e\n", (long)i, stick.frequencies_hz[i],
-              op->ck(i, i) / (2 * std::sqrt(op->lambda[i])));
-  }
   Eigen::MatrixXd m_eff = kGamma * dt * op->ck;
   m_eff.diagonal().array() += 1.0 + kBeta * dt * dt * op->lambda.array();
   op->m_inv = m_eff.inverse();
