@@ -104,7 +104,7 @@ echo; echo "== FE cascade: modes, bound curve ${FE_RANGE[*]} Hz, R(gamma) and NO
 step fe_modes json "$FE_OUT/fe_modes.json" $FR modes "$FE_CASE"
 step fe_bounds json "$FE_OUT/fe_bounds.json" $FR bounds "$FE_CASE" "${FE_RANGE[@]}" --plot --out "$FE_OUT/fe_bounds"
 step fe_verify json "$FE_OUT/fe_verify.json" $FR verify "$FE_CASE" --freq "$FE_REF" --alpha-samples 200 \
-  --check-samples 200 --time-runs 0 --out "$FE_OUT/fe_verify"
+  --check-samples 200 --time-runs 3 --out "$FE_OUT/fe_verify"
 step fe_noa json "$FE_OUT/fe_noa.json" $FR noa "$FE_CASE" --param gamma --from 0 --to 0.3 --freq "$FE_REF" \
   --noa-objective one-minus-r --no-sweep --out "$FE_OUT/fe_noa"
 step lump json "$FE_OUT/lump.json" $FR lump "$FE_CASE" --to "$FE_OUT/lumped.toml"
@@ -114,6 +114,7 @@ step gamma_study $PY scripts/gamma_study.py --case "$FE_CASE" --freqs "$FE_REF" 
   --out "$FE_OUT/gamma_study" --figure "$FE_OUT/figures/r_gamma.png" --fricrom "$FR"
 $PY scripts/plot_lumped_vs_fe.py "$FE_OUT/fe_bounds/bounds.h5" "$FE_OUT/lumped_bounds/bounds.h5" \
   "$FE_OUT/figures/bounds_fe_vs_lumped.png" || true
+$PY scripts/plot_verify.py "$FE_OUT/figures/verify.png" "$FE_OUT/fe_verify.json" || true
 cp "$FE_OUT/fe_bounds/contact_map.png" "$FE_OUT/figures/contact_map.png" 2>/dev/null || true
 cp "$FE_OUT/fe_bounds/bounds.png" "$FE_OUT/figures/bounds_fe.png" 2>/dev/null || true
 write_timings "$FE_OUT/timings.json"

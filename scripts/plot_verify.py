@@ -74,7 +74,7 @@ def draw(ax, d):
         half = 0.5 * r["free"] * y if math.isfinite(r["free"]) else 0.0
         ax.errorbar([i], [y], yerr=[[half], [half]], fmt="D", ms=7, capsize=4,
                     color="black" if ok else "tab:red", mfc="black" if ok else "none",
-                    label="time integration (whisker: free vibration)" if i == 0 else None)
+                    label="time integration: filled = steady, inside; hollow red = not\n(whisker: free vibration)" if i == 0 else None)
         ax.annotate(f"{r['periods']} periods\n{r['wall']:.0f} s", (i, y), xytext=(8, -4),
                     textcoords="offset points", fontsize=7)
     ax.set_xlim(-1.2, n - 0.3)
