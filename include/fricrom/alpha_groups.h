@@ -31,6 +31,9 @@ class AlphaGroupedBalance final : public HarmonicBalance {
                 const HbmRequest& request, HbmEvaluation* out) const override;
   double ResidualScale() const override { return inner_->ResidualScale(); }
   JacobianPattern StructuralPattern() const override;
+  Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& x) const override {
+    return inner_->FromDofCoefficients(x);
+  }
   Eigen::VectorXd StickLinearSolution(double omega) const override {
     return inner_->StickLinearSolution(omega);
   }

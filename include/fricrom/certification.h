@@ -16,6 +16,9 @@ struct CertificationEvidence {
   int time_runs = 0;           // time integrations attempted
   int time_runs_unsteady = 0;  // ... that reached no steady state
   int time_runs_outside = 0;   // ... whose steady state lies outside the bounds
+  // Time integrations whose final state, refined by Newton into a harmonic-balance solution at
+  // its equivalent α, lies beyond the bounds: proof that a bound is a local optimum only.
+  int time_states_beyond = 0;
 };
 
 // Why the evidence does not certify the bounds; empty: certified.

@@ -72,6 +72,9 @@ class CondensedSystem : public HarmonicBalance {
                           const Eigen::VectorXd& alpha) const;
   // Condensed unknowns of full DOF coefficients (r = B x, y = response DOF).
   Eigen::VectorXd Condense(const Eigen::VectorXd& x_full) const;
+  Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& x_full) const override {
+    return Condense(x_full);
+  }
 
  private:
   // The sibling with fewer harmonics (WithFewerHarmonics).

@@ -124,6 +124,12 @@ class HarmonicBalance {
   // contacts' DOFs).
   virtual JacobianPattern StructuralPattern() const;
 
+  // This balance's unknowns from the harmonic coefficients of every DOF (hbm.h layout, e.g.
+  // LastPeriodCoefficients of a time integration): the full balance takes them as they are, the
+  // condensed one the contacts' relative displacements and the response DOF. Throws
+  // std::invalid_argument on a size mismatch.
+  virtual Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& dof_coefficients) const;
+
   // Harmonic continuation: the same problem with fewer harmonics (1 ≤ harmonics < harmonics()),
   // cheap to build (it may share this one's linear part). From the stick start, Newton at H = 3
   // crawls through dozens of damped steps while contacts switch; started from the H = 1 solution

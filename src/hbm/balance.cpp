@@ -23,6 +23,15 @@ std::unique_ptr<JacobianOperator> HarmonicBalance::Linearize(
   return nullptr;
 }
 
+Eigen::VectorXd HarmonicBalance::FromDofCoefficients(
+    const Eigen::VectorXd& dof_coefficients) const {
+  if (dof_coefficients.size() != num_unknowns()) {
+    throw std::invalid_argument("FromDofCoefficients: expected " + std::to_string(num_unknowns()) +
+                                " coefficients, got " + std::to_string(dof_coefficients.size()));
+  }
+  return dof_coefficients;
+}
+
 JacobianPattern HarmonicBalance::StructuralPattern() const {
   const int nx = num_unknowns(), n = nx + num_alpha();
   JacobianPattern p;

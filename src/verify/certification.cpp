@@ -21,6 +21,11 @@ std::vector<std::string> CertificationGaps(const CertificationEvidence& e) {
   if (e.time_runs_outside > 0) {
     gaps.push_back(std::to_string(e.time_runs_outside) + " time integrations outside the bounds");
   }
+  if (e.time_states_beyond > 0) {
+    gaps.push_back(std::to_string(e.time_states_beyond) +
+                   " time integrations end at a harmonic-balance solution beyond the bounds (the "
+                   "bounds are local optima there)");
+  }
   return gaps;
 }
 

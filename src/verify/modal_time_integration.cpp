@@ -84,7 +84,11 @@ bool BuildOperators(const Model& model, const ModalResult& stick, const Eigen::M
       op->lambda.cwiseInverse().asDiagonal() * op->phi.transpose();
   op->psi = d * op->phi;
   op->phi_f = op->phi.transpose() * f;
-  op->r_dt = ks.solve(d.transpose()) - op->phi * (inv_lambda_phi_t * d.transpose());
+  // (No contacts: no rows, and Eigen's triangular solve must not see an empty right-hand side.)
+  op->r_dt =
+      d.rows() > 0
+          ? Eigen::MatrixXd(ks.solve(d.transpose()) - op->phi * (inv_lambda_phi_t * d.transpose()))
+          : Eigen::MatrixXd(model.num_dofs(), 0);
   op->r_f = ks.solve(f) - op->phi * (inv_lambda_phi_t * f);
   op->ck = op->phi.transpose() * model.damping * op->phi;
   Eigen::MatrixXd m_eff = kGamma * dt * op->ck;
@@ -113,7 +117,8 @@ class ContactStepSolver {
   int Solve(const Eigen::VectorXd& d0, int max_iterations, Eigen::VectorXd* g, Eigen::VectorXd* sg,
             std::vector<ContactTrial>* trials, Eigen::VectorXd* solution) {
     Eigen::VectorXd& d = *solution;
-    d = d0 - *sg;  // predictor: last step's forces
+    d = d0 - *sg;                  // predictor: last step's forces
+    if (d0.size() == 0) return 0;  // no contacts: the step is linear
     const double scale = std::max(d0.lpNorm<Eigen::Infinity>(), 1e-300);
     double last_norm = INFINITY;
     for (int it = 1; it <= max_iterations; ++it) {
@@ -238,6 +243,133 @@ class HannWindow {
   double re_ = 0.0, im_ = 0.0, weight_ = 0.0;
 };
 
+// The time-stepping state: Newmark (average acceleration) on the modal coordinates and the
+// contacts' law state, advanced one step at a time.
+class ModalStepper {
+ public:
+  ModalStepper(const ModalOperators& op, std::vector<ContactTerm> terms,
+               const time_stepping::LoadBasis& loads, double dt)
+      : op_(op), terms_(std::move(terms)), loads_(loads), dt_(dt), solver_(terms_, op.s) {}
+
+  // At rest in the static state q (contacts seated with contact_alpha).
+  void Seat(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& contact_alpha,
+            const Eigen::MatrixXd& d_rows) {
+    time_stepping::SeatContacts(q, contact_alpha, &terms_);
+    const Eigen::VectorXd d = d_rows * q;
+    const auto nc = terms_.size();
+    g_.resize(2 * static_cast<Eigen::Index>(nc));
+    trials_.assign(nc, ContactTrial{});
+    for (size_t c = 0; c < nc; ++c) {
+      const ContactTerm& t = terms_[c];
+      const auto ru = static_cast<Eigen::Index>(2 * c), rv = ru + 1;
+      const double nk = std::max(t.n0 + t.kn * d[rv], 0.0);
+      trials_[c] = {nk, t.t_prev, nk > 0.0 ? ContactState::kStick : ContactState::kLiftOff};
+      g_[ru] = t.t_prev - t.kt * d[ru];
+      g_[rv] = nk - t.kn * d[rv];
+    }
+    sg_ = op_.s * g_;
+    d_ = d;
+    w_ = loads_.Weights(0, 1, 0.0);
+    eta_ = op_.phi.transpose() * model.mass * q;
+    eta_d_ = Eigen::VectorXd::Zero(eta_.size());
+    eta_dd_ = op_.phi_f * w_ - op_.psi.transpose() * g_ - op_.lambda.cwiseProduct(eta_);
+  }
+
+  // To load weights w at the next step; the Newton steps taken, or −1 if the contacts' solve did
+  // not converge.
+  int Advance(const Eigen::VectorXd& w, int max_iterations) {
+    const double b = kBeta * dt_ * dt_;
+    const Eigen::VectorXd eta_s = eta_ + dt_ * eta_d_ + (0.5 - kBeta) * dt_ * dt_ * eta_dd_;
+    const Eigen::VectorXd eta_ds = eta_d_ + (1.0 - kGamma) * dt_ * eta_dd_;
+    const Eigen::VectorXd inner = op_.ck * eta_ds + op_.lambda.cwiseProduct(eta_s);
+    const Eigen::VectorXd d0 = op_.psi * (eta_s - b * (op_.m_inv * inner)) + op_.e * w;
+    const int its = solver_.Solve(d0, max_iterations, &g_, &sg_, &trials_, &d_);
+    if (its < 0) return its;
+    for (size_t c = 0; c < terms_.size(); ++c) {  // commit the law's state
+      terms_[c].t_prev = trials_[c].tangential;
+      terms_[c].u_prev = d_[2 * static_cast<Eigen::Index>(c)];
+    }
+    w_ = w;
+    eta_dd_ = op_.m_inv * (op_.phi_f * w - op_.psi.transpose() * g_ - inner);
+    eta_ = eta_s + b * eta_dd_;
+    eta_d_ = eta_ds + kGamma * dt_ * eta_dd_;
+    return its;
+  }
+
+  const Eigen::VectorXd& eta() const { return eta_; }
+  const Eigen::VectorXd& g() const { return g_; }
+  const Eigen::VectorXd& w() const { return w_; }
+  const std::vector<ContactTrial>& trials() const { return trials_; }
+
+ private:
+  const ModalOperators& op_;
+  std::vector<ContactTerm> terms_;
+  const time_stepping::LoadBasis& loads_;
+  double dt_;
+  ContactStepSolver solver_;
+  Eigen::VectorXd eta_, eta_d_, eta_dd_, g_, sg_, d_, w_;
+  std::vector<ContactTrial> trials_;
+};
+
+// One period's samples: what the result reports of the last period.
+struct PeriodRecord {
+  PeriodRecord(Eigen::Index modes, int contacts, Eigen::Index loads, int samples)
+      : etas(modes, samples),
+        gs(2 * contacts, samples),
+        ws(loads, samples),
+        tang(contacts, samples),
+        norm(contacts, samples),
+        resp(samples),
+        states(static_cast<size_t>(contacts),
+               std::vector<ContactState>(static_cast<size_t>(samples))) {}
+  void Record(int s, const ModalStepper& st, double response) {
+    etas.col(s) = st.eta();
+    gs.col(s) = st.g();
+    ws.col(s) = st.w();
+    resp[s] = response;
+    for (size_t c = 0; c < st.trials().size(); ++c) {
+      const auto ci = static_cast<Eigen::Index>(c);
+      tang(ci, s) = st.trials()[c].tangential;
+      norm(ci, s) = st.trials()[c].normal;
+      states[c][static_cast<size_t>(s)] = st.trials()[c].state;
+    }
+  }
+  Eigen::MatrixXd etas, gs, ws, tang, norm;
+  Eigen::VectorXd resp;
+  std::vector<std::vector<ContactState>> states;
+};
+
+// Steady state on Hann-windowed amplitudes (TimeIntegrationOptions::window_periods), fed one
+// period at a time after the ramp.
+class WindowedSteadyTest {
+ public:
+  WindowedSteadyTest(const TimeIntegrationOptions& options)
+      : options_(options),
+        window_(options.window_periods * options.steps_per_period, options.steps_per_period) {}
+  // True when settled; updates the result's relative change and free vibration.
+  bool Add(int done, const Eigen::VectorXd& resp, double one_period, double* amplitude,
+           TimeIntegrationResult* result) {
+    period_min_ = std::min(period_min_, one_period);
+    period_max_ = std::max(period_max_, one_period);
+    for (Eigen::Index s = 0; s < resp.size(); ++s) window_.Add(resp[s]);
+    if (!window_.Full()) return false;
+    *amplitude = window_.Amplitude();
+    result->free_vibration = (period_max_ - period_min_) / period_max_;
+    period_min_ = INFINITY;
+    period_max_ = 0.0;
+    const double previous = previous_;
+    previous_ = *amplitude;
+    if (previous < 0.0) return false;
+    result->relative_change = std::abs(*amplitude - previous) / std::max(*amplitude, 1e-300);
+    return result->relative_change <= options_.steady_tolerance && done >= options_.min_periods;
+  }
+
+ private:
+  const TimeIntegrationOptions& options_;
+  HannWindow window_;
+  double previous_ = -1.0, period_min_ = INFINITY, period_max_ = 0.0;
+};
+
 }  // namespace
 
 // Declared in time_integration.cpp, which validates the inputs and computes the stick modes.
@@ -255,7 +387,7 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
   result.scheme = "implicit-modal";
   result.cutoff_hz = options.modal_cutoff_factor * options.freq_hz;
 
-  std::vector<ContactTerm> terms = ts::BuildContacts(model);
+  const std::vector<ContactTerm> terms = ts::BuildContacts(model);
   const ts::LoadBasis loads = ts::BuildLoadBasis(model);
   const Eigen::MatrixXd d_rows = RelativeRows(terms, n);
   ModalOperators op;
@@ -273,115 +405,58 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
     return result;
   }
   result.static_displacement = q;
-  ts::SeatContacts(q, initial_alpha, &terms);
-  const Eigen::VectorXd d_static = d_rows * q;
-  Eigen::VectorXd g(2 * nc);
-  std::vector<ContactTrial> trials(static_cast<size_t>(nc));
-  for (int c = 0; c < nc; ++c) {
-    const ContactTerm& t = terms[static_cast<size_t>(c)];
-    const double nk = std::max(t.n0 + t.kn * d_static[2 * c + 1], 0.0);
-    trials[static_cast<size_t>(c)] = {nk, t.t_prev,
-                                      nk > 0.0 ? ContactState::kStick : ContactState::kLiftOff};
-    g[2 * c] = t.t_prev - t.kt * d_static[2 * c];
-    g[2 * c + 1] = nk - t.kn * d_static[2 * c + 1];
-  }
-  Eigen::VectorXd sg = op.s * g;
-  Eigen::VectorXd eta = op.phi.transpose() * model.mass * q;
-  Eigen::VectorXd eta_d = Eigen::VectorXd::Zero(eta.size());
-  Eigen::VectorXd eta_dd = op.phi_f.col(0) - op.psi.transpose() * g - op.lambda.cwiseProduct(eta);
+  ModalStepper stepper(op, terms, loads, dt);
+  stepper.Seat(model, q, initial_alpha, d_rows);
 
-  const auto k = op.phi.cols();
-  const auto nl = loads.vectors.cols();
-  Eigen::MatrixXd etas(k, ns), gs(2 * nc, ns), ws(nl, ns), tang(nc, ns), norm(nc, ns);
-  Eigen::VectorXd resp(ns), cos_table(ns), sin_table(ns);
+  PeriodRecord rec(op.phi.cols(), nc, loads.vectors.cols(), ns);
+  Eigen::VectorXd cos_table(ns), sin_table(ns);
   for (int s = 0; s < ns; ++s) {
     cos_table[s] = std::cos(kTwoPi * s / ns);
     sin_table[s] = std::sin(kTwoPi * s / ns);
   }
-  std::vector<std::vector<ContactState>> states(static_cast<size_t>(nc),
-                                                std::vector<ContactState>(static_cast<size_t>(ns)));
   const Eigen::RowVectorXd phi_e = op.phi.row(model.response_dof);
   const Eigen::RowVectorXd rf_e = op.r_f.row(model.response_dof);
   const Eigen::RowVectorXd rdt_e = op.r_dt.row(model.response_dof);
-  const double t_ramp = options.ramp_periods * period, b = kBeta * dt * dt;
-  ContactStepSolver solver(terms, op.s);
-  HannWindow window(options.window_periods * ns, ns);
-  double amplitude = NAN, window_amplitude = -1.0, period_min = INFINITY, period_max = 0.0;
-  Eigen::VectorXd w = loads.Weights(0, ns, 0.0), d(2 * nc);
+  const double t_ramp = options.ramp_periods * period;
+  WindowedSteadyTest steady(options);
+  double amplitude = NAN;
   result.status = Status::kNotSettled;
   for (int p = 0; p < options.max_periods && result.status == Status::kNotSettled; ++p) {
     for (int s = 0; s < ns; ++s) {
-      // Sample s of period p: the state at t = (p N + s) dt.
-      etas.col(s) = eta;
-      gs.col(s) = g;
-      ws.col(s) = w;
-      resp[s] = phi_e.dot(eta) + rf_e.dot(w) - rdt_e.dot(g);
-      for (int c = 0; c < nc; ++c) {
-        const ContactTrial& tr = trials[static_cast<size_t>(c)];
-        tang(c, s) = tr.tangential;
-        norm(c, s) = tr.normal;
-        states[static_cast<size_t>(c)][static_cast<size_t>(s)] = tr.state;
-      }
-      // Advance to t_{n+1}.
+      // Sample s of period p is the state at t = (p N + s) dt; then the step to the next.
+      rec.Record(s, stepper,
+                 phi_e.dot(stepper.eta()) + rf_e.dot(stepper.w()) - rdt_e.dot(stepper.g()));
       const long long step = static_cast<long long>(p) * ns + s + 1;
-      w = loads.Weights(step, ns, ts::SmoothRamp(static_cast<double>(step) * dt, t_ramp));
-      const Eigen::VectorXd eta_s = eta + dt * eta_d + (0.5 - kBeta) * dt * dt * eta_dd;
-      const Eigen::VectorXd eta_ds = eta_d + (1.0 - kGamma) * dt * eta_dd;
-      const Eigen::VectorXd inner = op.ck * eta_ds + op.lambda.cwiseProduct(eta_s);
-      const Eigen::VectorXd d0 = op.psi * (eta_s - b * (op.m_inv * inner)) + op.e * w;
-      const int its = solver.Solve(d0, options.max_contact_iterations, &g, &sg, &trials, &d);
+      const double t = static_cast<double>(step) * dt;
+      const int its = stepper.Advance(loads.Weights(step, ns, ts::SmoothRamp(t, t_ramp)),
+                                      options.max_contact_iterations);
       if (its < 0) {
         std::ostringstream m;
         m << "contact solve did not converge in " << options.max_contact_iterations
-          << " Newton steps at t = " << static_cast<double>(step) * dt << " s (period " << p + 1
-          << ", step " << s + 1 << ")";
+          << " Newton steps at t = " << t << " s (period " << p + 1 << ", step " << s + 1 << ")";
         result.status = Status::kContactFailed;
         result.message = m.str();
-        break;
+        return result;  // amplitude stays NaN: a failed run is never a number
       }
       result.contact_iterations += its;
       result.max_step_iterations = std::max(result.max_step_iterations, its);
-      for (int c = 0; c < nc; ++c) {  // commit the law's state
-        ContactTerm& t = terms[static_cast<size_t>(c)];
-        t.t_prev = trials[static_cast<size_t>(c)].tangential;
-        t.u_prev = d[2 * c];
-      }
-      eta_dd = op.m_inv * (op.phi_f * w - op.psi.transpose() * g - inner);
-      eta = eta_s + b * eta_dd;
-      eta_d = eta_ds + kGamma * dt * eta_dd;
     }
-    if (result.status != Status::kNotSettled) break;
     const int done = p + 1;
     result.periods = done;
     result.steps = done * ns;
-    if (!eta.allFinite() || !resp.allFinite()) {
+    if (!stepper.eta().allFinite() || !rec.resp.allFinite()) {
       result.status = Status::kUnstable;
       result.message = "solution blew up (non-finite) in period " + std::to_string(done);
-      break;
+      return result;
     }
     if (done <= options.ramp_periods) continue;
-    const double one_period = ts::FirstHarmonicAmplitude(resp, cos_table, sin_table);
-    period_min = std::min(period_min, one_period);
-    period_max = std::max(period_max, one_period);
-    for (int s = 0; s < ns; ++s) window.Add(resp[s]);
-    if (!window.Full()) continue;
-    amplitude = window.Amplitude();
-    result.free_vibration = (period_max - period_min) / period_max;
-    period_min = INFINITY;
-    period_max = 0.0;
-    if (window_amplitude >= 0.0) {
-      result.relative_change = std::abs(amplitude - window_amplitude) / std::max(amplitude, 1e-300);
-      if (result.relative_change <= options.steady_tolerance && done >= options.min_periods) {
-        result.status = Status::kSteadyState;
-      }
+    const double one_period = ts::FirstHarmonicAmplitude(rec.resp, cos_table, sin_table);
+    if (steady.Add(done, rec.resp, one_period, &amplitude, &result)) {
+      result.status = Status::kSteadyState;
     }
-    window_amplitude = amplitude;
   }
-  if (result.status == Status::kContactFailed || result.status == Status::kUnstable) {
-    return result;  // amplitude stays NaN: a failed run is never a number
-  }
-  const Eigen::MatrixXd disp = op.phi * etas + op.r_f * ws - op.r_dt * gs;
-  ts::FinishResult(model, disp, tang, norm, states, amplitude, options, &result);
+  const Eigen::MatrixXd disp = op.phi * rec.etas + op.r_f * rec.ws - op.r_dt * rec.gs;
+  ts::FinishResult(model, disp, rec.tang, rec.norm, rec.states, amplitude, options, &result);
   return result;
 }
 

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 #include "fricrom/bounds.h"
 #include "fricrom/frf.h"
@@ -60,6 +61,12 @@ TEST(Condensed, FullSolutionsAreCondensedSolutions) {
       const FrfPoint sol = SolveAtFrequency(full, alpha, f, Eigen::VectorXd(), FrfOptions{});
       ASSERT_EQ(sol.status, SolverStatus::kConverged) << f;
       const Eigen::VectorXd xc = cond.Condense(sol.x);
+      // Through the interface (what verify does with a time integration's harmonics): the same.
+      const HarmonicBalance& as_balance = cond;
+      EXPECT_EQ(as_balance.FromDofCoefficients(sol.x), xc);
+      const HarmonicBalance& full_balance = full;
+      EXPECT_EQ(full_balance.FromDofCoefficients(sol.x), sol.x);
+      EXPECT_THROW(as_balance.FromDofCoefficients(xc), std::invalid_argument);
       HbmEvaluation e;
       cond.Evaluate(xc, kTwoPi * f, alpha, HbmRequest{}, &e);
       EXPECT_LE(e.residual.norm(), 1e-9 * cond.ResidualScale()) << "H " << h << ", " << f << " Hz";

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 namespace fricrom {
 namespace {
 
@@ -23,6 +25,15 @@ TEST(Certification, AnyFailureOrOutlierBreaksTheCertificate) {
   EXPECT_EQ(CertificationGaps({20, 0, 0, 4, 1, 0}).size(), 1u);
   EXPECT_EQ(CertificationGaps({20, 0, 0, 4, 0, 1}).size(), 1u);
   EXPECT_EQ(CertificationGaps({0, 0, 0, 2, 2, 0}).size(), 2u);  // no steady state: nothing checked
+}
+
+// A time integration that ends at a harmonic-balance solution beyond the bounds proves them local,
+// even when the run itself was not steady (and so never counted as "outside").
+TEST(Certification, AnHbmSolutionBeyondTheBoundsBreaksTheCertificate) {
+  const auto gaps = CertificationGaps({200, 0, 0, 4, 1, 0, 1});
+  ASSERT_EQ(gaps.size(), 2u);
+  EXPECT_NE(gaps[1].find("beyond the bounds"), std::string::npos) << gaps[1];
+  EXPECT_TRUE(CertificationGaps({200, 0, 0, 4, 0, 0, 0}).empty());
 }
 
 }  // namespace
