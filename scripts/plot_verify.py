@@ -11,7 +11,8 @@ Each panel shows the HBM bounds [y_min, y_max] (band, with the 2 % harmonic-trun
 time integrations are judged by), the range of the α-sampled solutions (bar) and each time
 integration's steady amplitude (marker: filled if steady and inside, hollow red otherwise) with
 the free vibration that rode on it over its last window (whisker: ± half the spread of the
-one-period amplitudes). Reads the keys y_min, y_max, freq_hz, sampling.{sampled_min, sampled_max,
+one-period amplitudes), and the harmonic-balance solution Newton refines from its final state
+(purple dot, key hbm_from_state). Reads the keys y_min, y_max, freq_hz, sampling.{sampled_min, sampled_max,
 converged, samples}, time_integration[].{amplitude, status, inside, free_vibration, periods,
 wall_s}, certified.
 
@@ -47,7 +48,9 @@ def read_verify(path):
         s = v["sampling"]
         runs = [{"y": number(r["amplitude"]), "status": str(r["status"]), "inside": bool(r["inside"]),
                  "free": number(r.get("free_vibration", 0.0)), "periods": int(r["periods"]),
-                 "wall": number(r.get("wall_s"))} for r in v["time_integration"]]
+                 "wall": number(r.get("wall_s")),
+                 "hbm": number((r.get("hbm_from_state") or {}).get("amplitude"))}
+                for r in v["time_integration"]]
         return {"freq": float(v["freq_hz"]), "lo": number(v["y_min"]), "hi": number(v["y_max"]),
                 "smin": number(s["sampled_min"]), "smax": number(s["sampled_max"]),
                 "solved": int(s["converged"]), "samples": int(s["samples"]), "runs": runs,
@@ -77,6 +80,9 @@ def draw(ax, d):
                     label="time integration: filled = steady, inside; hollow red = not\n(whisker: free vibration)" if i == 0 else None)
         ax.annotate(f"{r['periods']} periods\n{r['wall']:.0f} s", (i, y), xytext=(8, -4),
                     textcoords="offset points", fontsize=7)
+        if math.isfinite(r["hbm"]):
+            ax.plot([i - 0.18], [r["hbm"]], "o", ms=6, color="tab:purple",
+                    label="HBM solution refined from the run's state" if i == 0 else None)
     ax.set_xlim(-1.2, n - 0.3)
     ax.set_xticks([-0.6] + list(range(len(d["runs"]))))
     ax.set_xticklabels(["α samples"] + [f"run {i + 1}" for i in range(len(d["runs"]))], fontsize=8)
