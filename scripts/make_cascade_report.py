@@ -68,10 +68,13 @@ def verify_section(d):
                 "vibration = spread of the one-period amplitudes over the last window, left by the nearly "
                 "undamped full-stick modes):", "",
                 "![verify](figures/verify.png)", "",
-                "| run | status | amplitude [m] | inside | periods | free vibration | modes | wall [s] |",
-                "|---|---|---|---|---|---|---|---|"]
+                "| run | status | amplitude [m] | HBM refined from its state [m] | inside | periods | "
+                "free vibration | modes | wall [s] |",
+                "|---|---|---|---|---|---|---|---|---|"]
         for i, r in enumerate(runs):
-            out.append(f"| {i + 1} | {r['status']} | {num(r['amplitude'])} | {r['inside']} | {r['periods']} | "
+            hbm = (r.get("hbm_from_state") or {}).get("amplitude")
+            out.append(f"| {i + 1} | {r['status']} | {num(r['amplitude'])} | {num(hbm)} | {r['inside']} | "
+                       f"{r['periods']} | "
                        f"{num(r.get('free_vibration'), '{:.3f}')} | {r.get('modes_integrated', '')} | "
                        f"{num(r.get('wall_s'), '{:.1f}')} |")
     return out
