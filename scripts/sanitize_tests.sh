@@ -19,6 +19,5 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # paths; the Release suite runs the full sizes): the kill/resume scripts a 16-value sweep and an
 # 8-point curve (journal, kill -9, --resume, MPI, lock), the alpha-grid test every 7th point.
 export FRICROM_TEST_SWEEP_STEPS=16 FRICROM_TEST_CURVE_POINTS=8 FRICROM_TEST_GRID_STRIDE=7
-export FRICROM_TEST_TIME_STEPS=64  # the FE verify test: 64 steps per period (152 s at 256)
 ctest --test-dir build-asan --output-on-failure -j"$(nproc)"
 echo "sanitize_tests: the whole suite passed under ASan + UBSan"

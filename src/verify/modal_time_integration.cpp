@@ -267,12 +267,12 @@ class ModalStepper {
       g_[ru] = t.t_prev - t.kt * d[ru];
       g_[rv] = nk - t.kn * d[rv];
     }
-    sg_ = op_.s * g_;
+    sg_ = g_.size() > 0 ? Eigen::VectorXd(op_.s * g_) : Eigen::VectorXd();
     d_ = d;
     w_ = loads_.Weights(0, 1, 0.0);
     eta_ = op_.phi.transpose() * model.mass * q;
     eta_d_ = Eigen::VectorXd::Zero(eta_.size());
-    eta_dd_ = op_.phi_f * w_ - op_.psi.transpose() * g_ - op_.lambda.cwiseProduct(eta_);
+    eta_dd_ = op_.phi_f * w_ - ContactModalForce() - op_.lambda.cwiseProduct(eta_);
   }
 
   // To load weights w at the next step; the Newton steps taken, or −1 if the contacts' solve did
@@ -282,20 +282,34 @@ class ModalStepper {
     const Eigen::VectorXd eta_s = eta_ + dt_ * eta_d_ + (0.5 - kBeta) * dt_ * dt_ * eta_dd_;
     const Eigen::VectorXd eta_ds = eta_d_ + (1.0 - kGamma) * dt_ * eta_dd_;
     const Eigen::VectorXd inner = op_.ck * eta_ds + op_.lambda.cwiseProduct(eta_s);
-    const Eigen::VectorXd d0 = op_.psi * (eta_s - b * (op_.m_inv * inner)) + op_.e * w;
-    const int its = solver_.Solve(d0, max_iterations, &g_, &sg_, &trials_, &d_);
-    if (its < 0) return its;
+    const Eigen::VectorXd eta_free = eta_s - b * (op_.m_inv * inner);
+    int its = 0;
+    if (g_.size() > 0) {  // Eigen must not see empty operands (UBSan): no contacts, no solve
+      const Eigen::VectorXd d0 = op_.psi * eta_free + op_.e * w;
+      its = solver_.Solve(d0, max_iterations, &g_, &sg_, &trials_, &d_);
+      if (its < 0) return its;
+    }
     for (size_t c = 0; c < terms_.size(); ++c) {  // commit the law's state
       terms_[c].t_prev = trials_[c].tangential;
       terms_[c].u_prev = d_[2 * static_cast<Eigen::Index>(c)];
     }
     w_ = w;
-    eta_dd_ = op_.m_inv * (op_.phi_f * w - op_.psi.transpose() * g_ - inner);
+    eta_dd_ = op_.m_inv * (op_.phi_f * w - ContactModalForce() - inner);
     eta_ = eta_s + b * eta_dd_;
     eta_d_ = eta_ds + kGamma * dt_ * eta_dd_;
     return its;
   }
 
+  // Ψᵀ g̃: the contacts' modal forces (zero without contacts).
+  Eigen::VectorXd ContactModalForce() const {
+    return g_.size() > 0 ? Eigen::VectorXd(op_.psi.transpose() * g_)
+                         : Eigen::VectorXd::Zero(op_.phi.cols());
+  }
+  // Response DOF at the current state: φ_e η + (R F w)_e − (R Dᵀ g̃)_e.
+  double Response(const Eigen::RowVectorXd& phi_e, const Eigen::RowVectorXd& rf_e,
+                  const Eigen::RowVectorXd& rdt_e) const {
+    return phi_e.dot(eta_) + rf_e.dot(w_) + (g_.size() > 0 ? -rdt_e.dot(g_) : 0.0);
+  }
   const Eigen::VectorXd& eta() const { return eta_; }
   const Eigen::VectorXd& g() const { return g_; }
   const Eigen::VectorXd& w() const { return w_; }
@@ -324,7 +338,7 @@ struct PeriodRecord {
                std::vector<ContactState>(static_cast<size_t>(samples))) {}
   void Record(int s, const ModalStepper& st, double response) {
     etas.col(s) = st.eta();
-    gs.col(s) = st.g();
+    if (gs.rows() > 0) gs.col(s) = st.g();
     ws.col(s) = st.w();
     resp[s] = response;
     for (size_t c = 0; c < st.trials().size(); ++c) {
@@ -416,7 +430,9 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
   }
   const Eigen::RowVectorXd phi_e = op.phi.row(model.response_dof);
   const Eigen::RowVectorXd rf_e = op.r_f.row(model.response_dof);
-  const Eigen::RowVectorXd rdt_e = op.r_dt.row(model.response_dof);
+  const Eigen::RowVectorXd rdt_e = op.r_dt.cols() > 0
+                                       ? Eigen::RowVectorXd(op.r_dt.row(model.response_dof))
+                                       : Eigen::RowVectorXd();
   const double t_ramp = options.ramp_periods * period;
   WindowedSteadyTest steady(options);
   double amplitude = NAN;
@@ -424,8 +440,7 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
   for (int p = 0; p < options.max_periods && result.status == Status::kNotSettled; ++p) {
     for (int s = 0; s < ns; ++s) {
       // Sample s of period p is the state at t = (p N + s) dt; then the step to the next.
-      rec.Record(s, stepper,
-                 phi_e.dot(stepper.eta()) + rf_e.dot(stepper.w()) - rdt_e.dot(stepper.g()));
+      rec.Record(s, stepper, stepper.Response(phi_e, rf_e, rdt_e));
       const long long step = static_cast<long long>(p) * ns + s + 1;
       const double t = static_cast<double>(step) * dt;
       const int its = stepper.Advance(loads.Weights(step, ns, ts::SmoothRamp(t, t_ramp)),
@@ -455,7 +470,8 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
       result.status = Status::kSteadyState;
     }
   }
-  const Eigen::MatrixXd disp = op.phi * rec.etas + op.r_f * rec.ws - op.r_dt * rec.gs;
+  Eigen::MatrixXd disp = op.phi * rec.etas + op.r_f * rec.ws;
+  if (nc > 0) disp -= op.r_dt * rec.gs;
   ts::FinishResult(model, disp, rec.tang, rec.norm, rec.states, amplitude, options, &result);
   return result;
 }
