@@ -159,6 +159,23 @@ struct BoundsResult {
 BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
                            const BoundsOptions& options);
 
+// A harmonic-balance solution known from elsewhere: a time integration's state refined by Newton,
+// a sample beyond a bound, the optimum at a neighbouring frequency. x is a Newton start at α (it
+// may belong to another frequency); near a resonance several periodic solutions coexist at one α
+// and a start from x keeps the one that was found, where the bounds' own starts may not reach it.
+struct KnownSolution {
+  Eigen::VectorXd x;      // harmonic coefficients (HarmonicBalance layout)
+  Eigen::VectorXd alpha;  // one per α entry, each in [−1, 1]
+};
+
+// Bound runs (both directions) started from known solutions, folded into `bounds` with
+// MergeBounds; a known solution that Newton converges on at freq_hz is itself a candidate. The
+// options' seed sets, random seeds and sample check are not used. Returns how many of the two
+// bounds moved outwards (0-2). Throws std::invalid_argument on invalid options, a size mismatch
+// or a bounds result of another frequency.
+int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+                  const std::vector<KnownSolution>& known, BoundsResult* bounds);
+
 // Folds a second computation of the same frequency (other starts) into `into`: per bound the
 // better converged solution by `objective` (a failed one never replaces a converged one), the
 // counts and wall times summed, the spreads widened to cover both best values. Throws

@@ -118,11 +118,21 @@ constexpr int kSeedFallbackPoints = 40;
 // from the cold start (SolveAtFrequency without its fallback paths), then from the other seeds'
 // starts, then SolveAtFrequency with its fallbacks (α homotopy, frequency continuations), then a
 // ramp up to f. Near a resonance of the FE cascade the fallbacks cost minutes per seed (1103 Hz:
-// 98 % of a bound), where Newton from an earlier seed's solution takes a few steps.
+// 98 % of a bound), where Newton from an earlier seed's solution takes a few steps. A known
+// solution comes before all of them: near a resonance several periodic solutions coexist at one
+// α, and the cold start would leave the one that was found (e.g. by a time integration).
 bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
-                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x) {
+                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x,
+                   const Eigen::VectorXd& known) {
   FrfOptions frf;
   frf.use_fallbacks = false;
+  if (known.size() == sys.num_unknowns()) {
+    *x = known;
+    if (SolveNewton(HbmAtFrequency(sys, RadPerS(freq_hz), alpha), frf.newton, x)
+            .IsSolutionUsable()) {
+      return true;
+    }
+  }
   FrfPoint p = SolveAtFrequency(sys, alpha, freq_hz, Eigen::VectorXd(), frf);
   if (p.status == SolverStatus::kConverged) {
     *x = p.x;

@@ -49,9 +49,11 @@ std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::Vect
 // Fills the derived fields of a solution (x, α set).
 void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
 
-// A converged harmonic-balance solution at α to start from (see bound_common.cpp).
+// A converged harmonic-balance solution at α to start from (see bound_common.cpp); `known`, if
+// not empty, is tried first (a solution known from elsewhere: Newton keeps its branch).
 bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
-                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x);
+                   const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x,
+                   const Eigen::VectorXd& known = Eigen::VectorXd());
 
 // Reduced-space run over α (reduced_bounds.cpp).
 BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,

@@ -274,14 +274,16 @@ double RunSign(const BoundsOptions& options, bool maximise_response) {
 // Phase 1: each seed's start (falling back on the earlier seeds' starts) and its KKT checks.
 std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
                                   const BoundsOptions& options,
-                                  const std::vector<Eigen::VectorXd>& seeds, RunSetup setup,
+                                  const std::vector<Eigen::VectorXd>& seeds,
+                                  const std::vector<Eigen::VectorXd>& known_x, RunSetup setup,
                                   BoundsResult* result) {
   const double omega = RadPerS(freq_hz);
   std::vector<SeedStart> out(seeds.size());
   std::vector<Eigen::VectorXd> starts;
   for (size_t s = 0; s < seeds.size(); ++s) {
     SeedStart& st = out[s];
-    if (!StartSolution(system, freq_hz, seeds[s], starts, &st.x0)) {
+    const Eigen::VectorXd known = s < known_x.size() ? known_x[s] : Eigen::VectorXd();
+    if (!StartSolution(system, freq_hz, seeds[s], starts, &st.x0, known)) {
       ++result->start_failures;
       continue;
     }
@@ -362,7 +364,8 @@ struct RunTally {
 
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options,
-                            const std::vector<Eigen::VectorXd>& seeds) {
+                            const std::vector<Eigen::VectorXd>& seeds,
+                            const std::vector<Eigen::VectorXd>& known_x) {
   const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
@@ -393,7 +396,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     setup.x_scale.segment(j * n, n).setConstant(std::max(block, 1e-6 * x_ref));
   }
 
-  const std::vector<SeedStart> st = SeedStarts(system, freq_hz, options, seeds, setup, &result);
+  const std::vector<SeedStart> st = SeedStarts(system, freq_hz, options, seeds, known_x, setup, &result);
   // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best), never
   // another run's result, so the outcome does not depend on the order of the runs.
   const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};

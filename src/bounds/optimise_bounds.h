@@ -9,8 +9,9 @@
 namespace fricrom {
 
 // Bounds from the given α seeds only (no sample check); options must be valid, seeds non-empty.
+// known_x: empty, or per seed a solution (maybe empty) that Newton starts from first.
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
-                            const BoundsOptions& options,
-                            const std::vector<Eigen::VectorXd>& seeds);
+                            const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
+                            const std::vector<Eigen::VectorXd>& known_x = {});
 
 }  // namespace fricrom

@@ -50,25 +50,21 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   const int n = static_cast<int>(pass1.size());
   if (i < 0 || i >= n) throw std::invalid_argument("RefineFromNeighbours: no such point");
   const BoundsResult& own = pass1[i];
-  BoundsOptions bo = bounds;
-  bo.alpha_seeds.clear();
+  // The neighbours' optima as known solutions: Newton from their x keeps their branch of
+  // periodic solutions (continuation in frequency), where a cold start at their α may not.
+  std::vector<KnownSolution> known;
   for (int j : {i - 1, i + 1}) {
     if (j < 0 || j >= n) continue;
     for (const BoundSolution* s : {&pass1[j].min, &pass1[j].max}) {
       if (AlreadyTried(*s, own)) continue;
       bool dup = false;
-      for (const Eigen::VectorXd& a : bo.alpha_seeds) dup = dup || a == s->alpha;
-      if (!dup) bo.alpha_seeds.push_back(s->alpha);
+      for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
+      if (!dup) known.push_back({s->x, s->alpha});
     }
   }
   BoundsResult out = own;
-  if (bo.alpha_seeds.empty()) return out;
   // Only the neighbours' optima: pass 1 already ran the seed set and the sample check.
-  bo.seed_groups.clear();
-  bo.random_seeds = 0;
-  bo.check_samples = 0;
-  bo.progress = nullptr;
-  MergeBounds(ComputeBounds(system, own.freq_hz, bo), bo.objective, &out);
+  ImproveBounds(system, own.freq_hz, bounds, known, &out);
   return out;
 }
 

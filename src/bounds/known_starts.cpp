@@ -1,0 +1,96 @@
+// ImproveBounds: bound runs from harmonic-balance solutions found by other routes (time
+// integration, samples, neighbouring frequencies), merged into an existing result.
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bound_runs.h"
+#include "fricrom/bounds.h"
+#include "fricrom/frf.h"
+#include "fricrom/solve.h"
+#include "fricrom/units.h"
+#include "optimise_bounds.h"
+
+namespace fricrom {
+namespace {
+
+// Larger = more response (the maximum response minimises η).
+double Rank(const BoundsOptions& options, const BoundSolution& s) {
+  return options.objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
+}
+
+// A bound moves outwards only by more than the solvers' noise.
+constexpr double kMoveMargin = 1e-9;
+
+bool Beats(const BoundsOptions& options, const BoundSolution& cand, const BoundSolution& bound,
+           bool is_max) {
+  if (!cand.IsUsable()) return false;
+  if (!bound.IsUsable()) return true;
+  const double sign = is_max ? 1.0 : -1.0, b = Rank(options, bound);
+  return sign * (Rank(options, cand) - b) > kMoveMargin * std::abs(b);
+}
+
+}  // namespace
+
+int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+                  const std::vector<KnownSolution>& known, BoundsResult* bounds) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (bounds == nullptr || bounds->freq_hz != freq_hz) {
+    throw std::invalid_argument("ImproveBounds: the bounds are not those of this frequency");
+  }
+  for (const KnownSolution& k : known) {
+    if (k.x.size() != system.num_unknowns() || k.alpha.size() != system.num_alpha()) {
+      throw std::invalid_argument("ImproveBounds: a known solution has " +
+                                  std::to_string(k.x.size()) + " unknowns and " +
+                                  std::to_string(k.alpha.size()) + " alpha, the system " +
+                                  std::to_string(system.num_unknowns()) + " and " +
+                                  std::to_string(system.num_alpha()));
+    }
+  }
+  if (known.empty()) return 0;
+  const double omega = RadPerS(freq_hz);
+  const BoundSolution before[2] = {bounds->min, bounds->max};
+  // The known solutions themselves, where Newton converges on them at this frequency.
+  std::vector<Eigen::VectorXd> seeds, xs;
+  for (const KnownSolution& k : known) {
+    Eigen::VectorXd x = k.x;
+    const Eigen::VectorXd alpha = k.alpha.cwiseMax(-1.0).cwiseMin(1.0);
+    seeds.push_back(alpha);
+    if (!SolveNewton(HbmAtFrequency(system, omega, alpha), NewtonOptions{}, &x)
+             .IsSolutionUsable()) {
+      xs.push_back(k.x);  // still a start: StartSolution falls back on the usual routes
+      continue;
+    }
+    xs.push_back(x);
+    BoundSolution s;
+    s.x = x;
+    s.alpha = alpha;
+    s.status = BoundStatus::kConverged;
+    s.message = "known solution (Newton from a solution found by another route)";
+    bounds_detail::Describe(system, omega, &s);
+    if (!(s.residual <= bounds_detail::kFeasibility)) continue;
+    for (bool is_max : {false, true}) {
+      BoundSolution& b = is_max ? bounds->max : bounds->min;
+      if (Beats(options, s, b, is_max)) b = s;
+    }
+  }
+  BoundsOptions o = options;
+  o.seed_groups.clear();
+  o.random_seeds = 0;
+  o.check_samples = 0;
+  o.progress = nullptr;
+  const BoundSolution kept[2] = {bounds->min, bounds->max};
+  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs), o.objective, bounds);
+  int moved = 0;
+  for (bool is_max : {false, true}) {
+    BoundSolution& b = is_max ? bounds->max : bounds->min;
+    // A tie on a plateau of the response over α keeps the solution held before.
+    if (!Beats(options, b, kept[is_max], is_max)) b = kept[is_max];
+    moved += Beats(options, b, before[is_max], is_max);
+  }
+  return moved;
+}
+
+}  // namespace fricrom

@@ -1,0 +1,96 @@
+// ImproveBounds: bound runs from solutions found by other routes, on the paper's lumped system.
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "fricrom/bounds.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm_system.h"
+#include "test_models.h"
+
+namespace fricrom {
+namespace {
+
+constexpr double kFreq = 266.0;  // near the resonance: the response spreads over α
+
+HbmSystem& Baseline() {
+  static HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
+  return sys;
+}
+
+// A deliberately local result: one seed (α = 0), one optimiser iteration, no sample check.
+BoundsOptions Weak() {
+  BoundsOptions o;
+  o.alpha_seeds = {Eigen::VectorXd::Zero(Baseline().num_alpha())};
+  o.max_iterations = 1;
+  o.check_samples = 0;
+  return o;
+}
+
+// The corner of the α box with the smallest response and its solution (independent of the
+// bounds). At 266 Hz α = 0 is a KKT point of both directions (a plateau), a corner is lower.
+KnownSolution SmallestCorner(double* amplitude) {
+  const int n = Baseline().num_alpha();
+  KnownSolution best;
+  *amplitude = 1e300;
+  for (int m = 0; m < (1 << n); ++m) {
+    Eigen::VectorXd a(n);
+    for (int k = 0; k < n; ++k) a[k] = ((m >> k) & 1) ? 1.0 : -1.0;
+    const FrfPoint p = SolveAtFrequency(Baseline(), a, kFreq, Eigen::VectorXd(), FrfOptions{});
+    if (p.status == SolverStatus::kConverged && p.amplitude < *amplitude) {
+      *amplitude = p.amplitude;
+      best = {p.x, a};
+    }
+  }
+  return best;
+}
+
+TEST(ImproveBounds, ASolutionBelowALocalMinimumLowersIt) {
+  BoundsResult r = ComputeBounds(Baseline(), kFreq, Weak());
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  double corner = 0.0;
+  const KnownSolution k = SmallestCorner(&corner);
+  ASSERT_LT(corner, r.min.amplitude * 0.9) << "the weak minimum should be local here";
+  const double max_before = r.max.amplitude;
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, Weak(), {k}, &r), 1);
+  ASSERT_TRUE(r.min.IsUsable());
+  EXPECT_LE(r.min.amplitude, corner * (1 + 1e-12));
+  EXPECT_EQ(r.max.amplitude, max_before);
+  // The lowered bound is a harmonic-balance solution at its α, checked independently.
+  HbmEvaluation e;
+  Baseline().Evaluate(r.min.x, 2 * std::numbers::pi * kFreq, r.min.alpha, HbmRequest{}, &e);
+  EXPECT_LE(e.residual.norm(), 1e-6 * Baseline().ResidualScale());
+  EXPECT_DOUBLE_EQ(r.min.amplitude, Baseline().Amplitude(r.min.x));
+  EXPECT_LE(r.min.alpha.cwiseAbs().maxCoeff(), 1.0);
+  // It reaches the thorough computation's minimum (2.0376e-4 m, every seed and the sample check).
+  const BoundsResult full = ComputeBounds(Baseline(), kFreq, BoundsOptions{});
+  ASSERT_TRUE(full.IsUsable());
+  EXPECT_LE(r.min.amplitude, full.min.amplitude * (1 + 1e-6));
+}
+
+TEST(ImproveBounds, AStartInsideTheBoundsChangesNothing) {
+  BoundsResult r = ComputeBounds(Baseline(), kFreq, BoundsOptions{});
+  ASSERT_TRUE(r.IsUsable());
+  const BoundsResult before = r;
+  // The bounds' own optimum as a known solution: nothing to gain.
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, BoundsOptions{}, {{r.max.x, r.max.alpha}}, &r), 0);
+  EXPECT_EQ(r.max.amplitude, before.max.amplitude);
+  EXPECT_EQ(r.min.amplitude, before.min.amplitude);
+  EXPECT_EQ(r.max.alpha, before.max.alpha);
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, BoundsOptions{}, {}, &r), 0);
+}
+
+TEST(ImproveBounds, RejectsMismatchedInput) {
+  BoundsResult r = ComputeBounds(Baseline(), kFreq, Weak());
+  const int n = Baseline().num_unknowns(), na = Baseline().num_alpha();
+  const KnownSolution short_x{Eigen::VectorXd::Zero(n - 1), Eigen::VectorXd::Zero(na)};
+  EXPECT_THROW(ImproveBounds(Baseline(), kFreq, Weak(), {short_x}, &r), std::invalid_argument);
+  const KnownSolution ok{Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(na)};
+  EXPECT_THROW(ImproveBounds(Baseline(), kFreq + 1.0, Weak(), {ok}, &r), std::invalid_argument);
+  EXPECT_THROW(ImproveBounds(Baseline(), kFreq, Weak(), {ok}, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fricrom
