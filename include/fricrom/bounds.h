@@ -166,6 +166,9 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
 struct KnownSolution {
   Eigen::VectorXd x;      // harmonic coefficients (HarmonicBalance layout)
   Eigen::VectorXd alpha;  // one per α entry, each in [−1, 1]
+  // Optimiser runs from it towards the minimum and the maximum response (a minimum's optimum
+  // tracked in frequency needs only the first).
+  bool run_min = true, run_max = true;
 };
 
 // Bound runs (both directions) started from known solutions, folded into `bounds` with

@@ -44,6 +44,12 @@ ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSear
 struct BoundCurveOptions {
   BoundsOptions bounds;
   bool warm_start = true;  // pass 2
+  // Pass 1 in full (every seed, the sample check) at every anchor_every-th frequency and the
+  // last; between two anchors the optima are continued in frequency from each anchor towards the
+  // other (ContinueBounds) and the better of the two kept. 1: every frequency in full. Cheaper
+  // where a point's seeds cost much (near FE resonances), at the price of each point's own
+  // multi-start: charted in docs/bounds-and-design.md.
+  int anchor_every = 1;
   // Worker threads over the frequencies (0 = every core); more than one needs a BalanceMaker.
   int threads = 1;
   // (stage, done, total): stage "frequencies" after each pass-1 point and "neighbour starts"
@@ -75,6 +81,27 @@ BoundCurve ComputeBoundCurve(
 BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
                                   const std::vector<BoundsResult>& pass1, int i,
                                   const BoundsOptions& bounds);
+// The anchors of a curve of n points: 0, k, 2k, ... and n − 1 (every point for k = 1).
+std::vector<int> CurveAnchors(int n, int anchor_every);
+// Continuation of the optima of `from` along freqs_hz (in the order given, from.freq_hz's
+// neighbour first): at each frequency a minimum run from the last minimum and a maximum run from
+// the last maximum, Newton starting from their x (ImproveBounds). A point where a direction
+// finds nothing keeps that bound failed (NaN) and the next starts from the last that converged.
+std::vector<BoundsResult> ContinueBounds(const HarmonicBalance& system, const BoundsResult& from,
+                                         const std::vector<double>& freqs_hz,
+                                         const BoundsOptions& bounds);
+// A continuation between two anchors: from anchor `from`, through `points` in order of travel.
+// Each stretch between neighbouring anchors has two, one from either end.
+struct CurveChain {
+  int from = 0;
+  std::vector<int> points;
+};
+std::vector<CurveChain> CurveChains(const std::vector<int>& anchors);
+// Folds the chains' results (chain_results[c][k] for chains[c].points[k]) into `points`: the first
+// chain to reach a point sets it, the others merge into it (MergeBounds).
+void MergeChains(const std::vector<CurveChain>& chains,
+                 const std::vector<std::vector<BoundsResult>>& chain_results,
+                 BoundsOptions::Objective objective, std::vector<BoundsResult>* points);
 // The curve of finished points (peak located; wall_s left for the caller).
 BoundCurve AssembleBoundCurve(std::vector<BoundsResult> points);
 

@@ -40,6 +40,7 @@ int DesignCommands::State::RunBounds() {
   Progress progress{ShowProgress(), "bounds"};
   BoundCurveOptions co;
   co.bounds = base;
+  co.anchor_every = anchor_every;
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
   co.threads = base.method == BoundsOptions::kReducedSpace ? threads : 1;
   if (progress.enabled) {
@@ -55,7 +56,7 @@ int DesignCommands::State::RunBounds() {
   double wall = 0.0;
   const CurveUnitsRun run = RunCurveUnits(
       dir,
-      JournalHeader("bounds", bounds_case, {{"freqs_hz", freqs}, {"warm_start", co.warm_start}}),
+      JournalHeader("bounds", bounds_case, {{"freqs_hz", freqs}, {"warm_start", co.warm_start}, {"anchor_every", co.anchor_every}}),
       resume, system, [&] { return MakeCaseBalance(c); }, freqs, co,
       [&](const CurveUnitsRun& r) {
         progress.Done();

@@ -93,6 +93,12 @@ void DesignCommands::Register(CLI::App& app) {
       ->check(Positive());
   s.bounds->add_option("--points", s.points, "Frequencies of the curve")
       ->check(CLI::Range(2, 100000));
+  s.bounds
+      ->add_option("--anchor-every", s.anchor_every,
+                   "Curve: full bounds (every seed, sample check) at every K-th frequency and the "
+                   "last, continuation of the optima in frequency between them (default 1: every "
+                   "frequency in full)")
+      ->check(CLI::Range(1, 100000));
   s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
   s.bounds
       ->add_option("--threads", s.threads,

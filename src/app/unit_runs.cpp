@@ -1,6 +1,8 @@
 #include "app/unit_runs.h"
 
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numeric>
 
 #include "app/bounds_record.h"
@@ -65,64 +67,109 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
                             const BalanceMaker& make_balance, const std::vector<double>& freqs,
                             const BoundCurveOptions& options,
                             const std::function<void(const CurveUnitsRun&)>& write_files) {
+  using nlohmann::json;
   CurveUnitsRun run;
   const int n = static_cast<int>(freqs.size());
   const bool ranks = MpiSize() > 1;
   const bool two_passes = options.warm_start && n > 1;
+  const std::vector<int> anchors = CurveAnchors(n, options.anchor_every);
+  const std::vector<CurveChain> chains = CurveChains(anchors);
+  std::vector<int> chain_ids(chains.size());
+  std::iota(chain_ids.begin(), chain_ids.end(), 0);
   BalancePool pool(system, make_balance);
   std::vector<BoundsResult> pass1(n);  // read back from records on every rank before pass 2
   const std::function<std::string(int)> first = [&](int i) {
     const BalancePool::Lease lease = pool.Borrow();
     return BoundsRecord(ComputeBounds(lease.get(), freqs[i], options.bounds)).dump();
   };
+  const std::function<std::string(int)> chain = [&](int c) {
+    std::vector<double> f;
+    for (int i : chains[c].points) f.push_back(freqs[i]);
+    const BalancePool::Lease lease = pool.Borrow();
+    json records = json::array();
+    for (const BoundsResult& r :
+         ContinueBounds(lease.get(), pass1[chains[c].from], f, options.bounds)) {
+      records.push_back(BoundsRecord(r));
+    }
+    return records.dump();
+  };
   const std::function<std::string(int)> second = [&](int i) {
     const BalancePool::Lease lease = pool.Borrow();
     return BoundsRecord(RefineFromNeighbours(lease.get(), pass1, i, options.bounds)).dump();
   };
+  // Every rank holds the points `ids` of pass 1 before the next stage (root broadcasts them).
+  const auto share = [&](const std::vector<int>& ids) {
+    json all = json::array();
+    if (MpiRank() == 0) {
+      for (int i : ids) all.push_back(BoundsRecord(pass1[i]));
+    }
+    all = json::parse(BroadcastText(all.dump()));
+    for (size_t k = 0; k < ids.size(); ++k) pass1[ids[k]] = BoundsFromRecord(all.at(k));
+  };
+  std::vector<int> every(n);
+  std::iota(every.begin(), every.end(), 0);
   if (ranks && MpiRank() != 0) {  // a worker rank: units in, records out
     DistributeUnits({}, first, {});
+    if (!chains.empty()) {
+      share(anchors);
+      DistributeUnits({}, chain, {});
+    }
     if (two_passes) {
-      const nlohmann::json all = nlohmann::json::parse(BroadcastText(""));
-      for (int i = 0; i < n; ++i) pass1[i] = BoundsFromRecord(all.at(i));
+      share(every);
       DistributeUnits({}, second, {});
     }
     run.worker = true;
     return run;
   }
   RunJournal journal(dir, "bounds", header, resume);
-  const auto run_pass = [&](int offset, const std::function<std::string(int)>& unit,
-                            const std::string& stage) {
+  // Journal keys: pass 1 at i, pass 2 at n + i, chain c at 2n + c.
+  const auto run_pass = [&](int offset, const std::vector<int>& ids,
+                            const std::function<std::string(int)>& unit, const std::string& stage) {
     std::vector<int> pending;
-    for (int i = 0; i < n; ++i) {
+    for (int i : ids) {
       if (journal.finished().count(offset + i) == 0) pending.push_back(i);
     }
-    int done = n - static_cast<int>(pending.size());
+    const int total = static_cast<int>(ids.size());
+    int done = total - static_cast<int>(pending.size());
     run.resumed += done;
     const auto record = [&](int i, const std::string& text) {
-      journal.Record(offset + i, nlohmann::json::parse(text));
+      journal.Record(offset + i, json::parse(text));
       ++run.computed;
-      if (options.progress) options.progress(stage, ++done, n);
+      if (options.progress) options.progress(stage, ++done, total);
     };
     if (ranks) {
       DistributeUnits(pending, unit, record);
     } else {
-      std::vector<std::string> texts(n);
+      std::map<int, std::string> texts;
+      std::mutex lock;
       RunWorkUnits(
-          pending, WorkerThreads(options.threads, n), [&](int i) { texts[i] = unit(i); },
-          [&](int i) { record(i, texts[i]); });
+          pending, WorkerThreads(options.threads, total),
+          [&](int i) {
+            std::string t = unit(i);
+            const std::lock_guard<std::mutex> g(lock);
+            texts[i] = std::move(t);
+          },
+          [&](int i) { record(i, texts.at(i)); });
     }
-    std::vector<BoundsResult> out(n);
-    for (int i = 0; i < n; ++i) out[i] = BoundsFromRecord(journal.finished().at(offset + i));
-    return out;
   };
-  pass1 = run_pass(0, first, "frequencies");
-  if (two_passes) {
-    if (ranks) {
-      nlohmann::json all = nlohmann::json::array();
-      for (int i = 0; i < n; ++i) all.push_back(journal.finished().at(i));
-      BroadcastText(all.dump());
+  run_pass(0, anchors, first, "frequencies");
+  for (int i : anchors) pass1[i] = BoundsFromRecord(journal.finished().at(i));
+  if (!chains.empty()) {
+    if (ranks) share(anchors);
+    run_pass(2 * n, chain_ids, chain, "continuations");
+    std::vector<std::vector<BoundsResult>> results(chains.size());
+    for (size_t c = 0; c < chains.size(); ++c) {
+      for (const json& r : journal.finished().at(2 * n + static_cast<int>(c))) {
+        results[c].push_back(BoundsFromRecord(r));
+      }
     }
-    run.points = run_pass(n, second, "neighbour starts");
+    MergeChains(chains, results, options.bounds.objective, &pass1);
+  }
+  if (two_passes) {
+    if (ranks) share(every);
+    run_pass(n, every, second, "neighbour starts");
+    run.points.resize(n);
+    for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
   } else {
     run.points = pass1;
   }

@@ -365,7 +365,8 @@ struct RunTally {
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options,
                             const std::vector<Eigen::VectorXd>& seeds,
-                            const std::vector<Eigen::VectorXd>& known_x) {
+                            const std::vector<Eigen::VectorXd>& known_x,
+                            const std::vector<int>& directions) {
   const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
@@ -409,7 +410,9 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     const Eigen::VectorXd& x0 = st[s].x0;
     setup.objective_scale = st[s].objective_scale;
     bool both = true;
+    const int mask = static_cast<size_t>(s) < directions.size() ? directions[s] : 3;
     for (int dir = 0; dir < 2; ++dir) {
+      if ((mask & (1 << dir)) == 0) continue;
       const bool maximise_response = dir == 1;
       setup.sign = RunSign(options, maximise_response);
       setup.incumbent = options.stop_dominated_runs && std::isfinite(incumbent[dir])

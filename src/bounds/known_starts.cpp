@@ -54,10 +54,12 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   const BoundSolution before[2] = {bounds->min, bounds->max};
   // The known solutions themselves, where Newton converges on them at this frequency.
   std::vector<Eigen::VectorXd> seeds, xs;
+  std::vector<int> directions;
   for (const KnownSolution& k : known) {
     Eigen::VectorXd x = k.x;
     const Eigen::VectorXd alpha = k.alpha.cwiseMax(-1.0).cwiseMin(1.0);
     seeds.push_back(alpha);
+    directions.push_back((k.run_min ? 1 : 0) | (k.run_max ? 2 : 0));
     if (!SolveNewton(HbmAtFrequency(system, omega, alpha), NewtonOptions{}, &x)
              .IsSolutionUsable()) {
       xs.push_back(k.x);  // still a start: StartSolution falls back on the usual routes
@@ -82,7 +84,7 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   o.check_samples = 0;
   o.progress = nullptr;
   const BoundSolution kept[2] = {bounds->min, bounds->max};
-  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs), o.objective, bounds);
+  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs, directions), o.objective, bounds);
   int moved = 0;
   for (bool is_max : {false, true}) {
     BoundSolution& b = is_max ? bounds->max : bounds->min;

@@ -10,8 +10,10 @@ namespace fricrom {
 
 // Bounds from the given α seeds only (no sample check); options must be valid, seeds non-empty.
 // known_x: empty, or per seed a solution (maybe empty) that Newton starts from first.
+// directions: empty (both), or per seed a mask of the runs to make: 1 minimum, 2 maximum response.
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
-                            const std::vector<Eigen::VectorXd>& known_x = {});
+                            const std::vector<Eigen::VectorXd>& known_x = {},
+                            const std::vector<int>& directions = {});
 
 }  // namespace fricrom

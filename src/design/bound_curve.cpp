@@ -23,6 +23,10 @@ std::vector<double> EvenFrequencies(double lo_hz, double hi_hz, int points) {
 }
 
 bool BoundCurveOptions::IsValid(std::string* error) const {
+  if (anchor_every < 1) {
+    *error = "BoundCurveOptions.anchor_every must be >= 1, got " + std::to_string(anchor_every);
+    return false;
+  }
   if (threads < 0) {
     *error =
         "BoundCurveOptions.threads must be >= 0 (0: every core), got " + std::to_string(threads);
@@ -68,6 +72,73 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   return out;
 }
 
+std::vector<int> CurveAnchors(int n, int anchor_every) {
+  if (n < 0 || anchor_every < 1) throw std::invalid_argument("CurveAnchors: n >= 0, every >= 1");
+  std::vector<int> a;
+  for (int i = 0; i < n; i += anchor_every) a.push_back(i);
+  if (n > 0 && a.back() != n - 1) a.push_back(n - 1);
+  return a;
+}
+
+std::vector<BoundsResult> ContinueBounds(const HarmonicBalance& system, const BoundsResult& from,
+                                         const std::vector<double>& freqs_hz,
+                                         const BoundsOptions& bounds) {
+  std::vector<BoundsResult> out;
+  BoundSolution last_min = from.min, last_max = from.max;
+  for (double f : freqs_hz) {
+    const auto t0 = std::chrono::steady_clock::now();
+    BoundsResult r;
+    r.freq_hz = f;
+    r.min.message = r.max.message = "continuation in frequency: no run converged";
+    std::vector<KnownSolution> known;
+    if (last_min.IsUsable()) known.push_back({last_min.x, last_min.alpha, true, false});
+    if (last_max.IsUsable()) known.push_back({last_max.x, last_max.alpha, false, true});
+    ImproveBounds(system, f, bounds, known, &r);
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r.min.IsUsable()) last_min = r.min;
+    if (r.max.IsUsable()) last_max = r.max;
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::vector<CurveChain> CurveChains(const std::vector<int>& anchors) {
+  std::vector<CurveChain> chains;
+  for (size_t k = 0; k + 1 < anchors.size(); ++k) {
+    const int a = anchors[k], b = anchors[k + 1];
+    if (b - a < 2) continue;
+    CurveChain up{a, {}}, down{b, {}};
+    for (int i = a + 1; i < b; ++i) up.points.push_back(i);
+    for (int i = b - 1; i > a; --i) down.points.push_back(i);
+    chains.push_back(std::move(up));
+    chains.push_back(std::move(down));
+  }
+  return chains;
+}
+
+void MergeChains(const std::vector<CurveChain>& chains,
+                 const std::vector<std::vector<BoundsResult>>& chain_results,
+                 BoundsOptions::Objective objective, std::vector<BoundsResult>* points) {
+  if (chain_results.size() != chains.size()) {
+    throw std::invalid_argument("MergeChains: one result list per chain");
+  }
+  std::vector<bool> set(points->size(), false);
+  for (size_t c = 0; c < chains.size(); ++c) {
+    if (chain_results[c].size() != chains[c].points.size()) {
+      throw std::invalid_argument("MergeChains: one result per point of a chain");
+    }
+    for (size_t k = 0; k < chains[c].points.size(); ++k) {
+      const int i = chains[c].points[k];
+      if (set.at(i)) {
+        MergeBounds(chain_results[c][k], objective, &(*points)[i]);
+      } else {
+        (*points)[i] = chain_results[c][k];
+        set[i] = true;
+      }
+    }
+  }
+}
+
 BoundCurve AssembleBoundCurve(std::vector<BoundsResult> points) {
   BoundCurve curve;
   curve.points = std::move(points);
@@ -100,9 +171,10 @@ BoundCurve ComputeBoundCurve(
   for (int i = 0; i < n; ++i) all[i] = i;
   const auto& progress = options.progress;
   std::vector<BoundsResult> pass1(n);
+  const std::vector<int> anchors = CurveAnchors(n, options.anchor_every);
   int done = 0;
   RunWorkUnits(
-      all, threads,
+      anchors, threads,
       [&](int i) {
         BoundsOptions bo = options.bounds;
         if (progress && threads == 1) {  // a point's own stages only when they come in order
@@ -117,8 +189,27 @@ BoundCurve ComputeBoundCurve(
         pass1[i] = ComputeBounds(lease.get(), freqs_hz[i], bo);
       },
       [&](int) {
-        if (progress) progress("frequencies", ++done, n);
+        if (progress) progress("frequencies", ++done, static_cast<int>(anchors.size()));
       });
+  const std::vector<CurveChain> chains = CurveChains(anchors);
+  if (!chains.empty()) {
+    std::vector<std::vector<BoundsResult>> chain_results(chains.size());
+    std::vector<int> ids(chains.size());
+    for (size_t c = 0; c < chains.size(); ++c) ids[c] = static_cast<int>(c);
+    done = 0;
+    RunWorkUnits(
+        ids, WorkerThreads(options.threads, static_cast<int>(ids.size())),
+        [&](int c) {
+          std::vector<double> f;
+          for (int i : chains[c].points) f.push_back(freqs_hz[i]);
+          const BalancePool::Lease lease = pool.Borrow();
+          chain_results[c] = ContinueBounds(lease.get(), pass1[chains[c].from], f, options.bounds);
+        },
+        [&](int) {
+          if (progress) progress("continuations", ++done, static_cast<int>(ids.size()));
+        });
+    MergeChains(chains, chain_results, options.bounds.objective, &pass1);
+  }
   std::vector<BoundsResult> points = pass1;
   if (options.warm_start && n > 1) {
     done = 0;
