@@ -41,7 +41,8 @@ struct CurveUnitsRun {
 };
 
 // The bound curve's frequencies as units of work, in the two passes of ComputeBoundCurve
-// (design.h; unit i is pass 1 of point i, unit n + i its pass 2): on the calling rank's threads
+// (design.h; unit i is pass 1 of point i — anchors only when options.anchor_every > 1 —, unit
+// n + i its pass 2, unit 2n + c the continuation along chain c): on the calling rank's threads
 // (options.threads, extra balances from make_balance) or over MPI ranks when there are several.
 // Rank 0 journals each finished unit in `dir` (name "bounds"), calls write_files with the points
 // while it holds the folder's lock, and then drops the journal. Every result goes through its

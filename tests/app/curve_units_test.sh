@@ -57,6 +57,21 @@ mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${curve[@]}" --out 
   "$tmp/mpi.json" "$points" || fail "the MPI run did not use 2 ranks"
 compare "$tmp/ref" "$tmp/mpi"
 
+# Anchors every 4th point, continuation between them: the same files on 2 ranks as serially, and
+# the unit counts say so (anchors + two chains per stretch + pass 2).
+"$fricrom" "${curve[@]}" --anchor-every 4 --threads 1 --out "$tmp/a1" > "$tmp/a1.json"
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${curve[@]}" --anchor-every 4 \
+  --out "$tmp/a2" > "$tmp/a2.json" || fail "mpirun -np 2 bounds --anchor-every 4 failed"
+compare "$tmp/a1" "$tmp/a2"
+"$py" - "$tmp/a1.json" "$points" <<'PY' || fail "the anchored curve's unit counts are wrong"
+import json, sys
+n = int(sys.argv[2])
+anchors = len(set(list(range(0, n, 4)) + [n - 1]))
+chains = 2 * sum(1 for a in range(0, n - 1, 4) if min(a + 4, n - 1) - a >= 2)
+u = json.load(open(sys.argv[1]))["units"]
+assert u["total"] == u["computed"] == anchors + chains + n, (u, anchors, chains)
+PY
+
 # Kill at a random moment after the journal appears, then resume on 2 threads.
 "$fricrom" "${curve[@]}" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
 pid=$!

@@ -255,6 +255,56 @@ TEST(Design, BoundCurveIsTheSameOnTwoThreadsAndPointByPoint) {
   EXPECT_THROW(RefineFromNeighbours(sys, pass1, 6, bo), std::invalid_argument);
 }
 
+TEST(Design, CurveAnchorsAndChainsCoverEveryPointOnce) {
+  EXPECT_EQ(CurveAnchors(10, 3), (std::vector<int>{0, 3, 6, 9}));
+  EXPECT_EQ(CurveAnchors(10, 4), (std::vector<int>{0, 4, 8, 9}));
+  EXPECT_EQ(CurveAnchors(4, 1), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(CurveAnchors(1, 5), (std::vector<int>{0}));
+  EXPECT_TRUE(CurveChains(CurveAnchors(4, 1)).empty());
+  EXPECT_THROW(CurveAnchors(4, 0), std::invalid_argument);
+  const std::vector<CurveChain> c = CurveChains({0, 3, 4, 7});
+  ASSERT_EQ(c.size(), 4u);  // two per stretch with interior points, none for 3-4
+  EXPECT_EQ(c[0].from, 0);
+  EXPECT_EQ(c[0].points, (std::vector<int>{1, 2}));
+  EXPECT_EQ(c[1].from, 3);
+  EXPECT_EQ(c[1].points, (std::vector<int>{2, 1}));
+  EXPECT_EQ(c[2].from, 4);
+  EXPECT_EQ(c[3].from, 7);
+  EXPECT_EQ(c[3].points, (std::vector<int>{6, 5}));
+}
+
+// Continuation between anchors on the paper's system reaches the bounds that every point's own
+// multi-start and sample check find (41 points through the resonance, anchors every 5 and 10),
+// and its points are harmonic-balance solutions.
+TEST(Design, AnchoredCurveEqualsTheFullCurveOnTheLumpedSystem) {
+  const Model model = testing::LoadBaseline().model;
+  HbmSystem sys(model, HbmOptions{1, 128});
+  const std::vector<double> freqs = EvenFrequencies(250.0, 280.0, 41);
+  BoundCurveOptions o;
+  const BoundCurve full = ComputeBoundCurve(sys, freqs, o);
+  for (int every : {5, 10}) {
+    o.anchor_every = every;
+    const BoundCurve anchored = ComputeBoundCurve(sys, freqs, o);
+    ASSERT_EQ(anchored.points.size(), freqs.size());
+    for (size_t i = 0; i < freqs.size(); ++i) {
+      const BoundsResult& a = anchored.points[i];
+      ASSERT_TRUE(a.IsUsable()) << every << " " << freqs[i];
+      EXPECT_NEAR(a.min.amplitude, full.points[i].min.amplitude,
+                  1e-9 * full.points[i].min.amplitude)
+          << every << " " << freqs[i];
+      EXPECT_NEAR(a.max.amplitude, full.points[i].max.amplitude,
+                  1e-9 * full.points[i].max.amplitude)
+          << every << " " << freqs[i];
+      HbmEvaluation e;
+      sys.Evaluate(a.max.x, 2 * M_PI * freqs[i], a.max.alpha, HbmRequest{}, &e);
+      EXPECT_LE(e.residual.norm(), 1e-6 * sys.ResidualScale());
+    }
+    EXPECT_EQ(anchored.peak, full.peak);
+  }
+  o.anchor_every = 0;
+  EXPECT_THROW(ComputeBoundCurve(sys, freqs, o), std::invalid_argument);
+}
+
 // Merging keeps the better converged bound per side and never lets a failure replace one.
 TEST(Design, MergeBoundsKeepsTheBetterConvergedSide) {
   BoundsResult a, b;
