@@ -12,7 +12,8 @@ time integrations are judged by), the range of the α-sampled solutions (bar) an
 integration's steady amplitude (marker: filled if steady and inside, hollow red otherwise) with
 the free vibration that rode on it over its last window (whisker: ± half the spread of the
 one-period amplitudes), and the harmonic-balance solution Newton refines from its final state
-(purple dot, key hbm_from_state). Reads the keys y_min, y_max, freq_hz, sampling.{sampled_min, sampled_max,
+(purple dot, key hbm_from_state). Where verify restarted the optimisation from solutions beyond
+the optimised bounds (key bounds_improved), those are drawn dashed. Reads the keys y_min, y_max, freq_hz, sampling.{sampled_min, sampled_max,
 converged, samples}, time_integration[].{amplitude, status, inside, free_vibration, periods,
 wall_s}, certified.
 
@@ -51,7 +52,10 @@ def read_verify(path):
                  "wall": number(r.get("wall_s")),
                  "hbm": number((r.get("hbm_from_state") or {}).get("amplitude"))}
                 for r in v["time_integration"]]
+        imp = v.get("bounds_improved") or {}
         return {"freq": float(v["freq_hz"]), "lo": number(v["y_min"]), "hi": number(v["y_max"]),
+                "restarts": int(imp.get("restarts", 0)),
+                "lo_opt": number(imp.get("y_min_optimised")), "hi_opt": number(imp.get("y_max_optimised")),
                 "smin": number(s["sampled_min"]), "smax": number(s["sampled_max"]),
                 "solved": int(s["converged"]), "samples": int(s["samples"]), "runs": runs,
                 "certified": bool(v["certified"]), "path": path}
@@ -66,6 +70,11 @@ def draw(ax, d):
     n = max(len(d["runs"]), 1)
     ax.axhspan(lo * 0.98, hi * 1.02, color="0.92", label="bounds ± 2 % (H truncation)")
     ax.axhspan(lo, hi, color="tab:blue", alpha=0.18, label="HBM bounds [y_min, y_max]")
+    if d["restarts"] > 0:
+        for k, v in enumerate((d["lo_opt"], d["hi_opt"])):
+            if math.isfinite(v) and v not in (lo, hi):
+                ax.axhline(v, color="tab:blue", ls="--", lw=1,
+                           label="optimised bound before verify's restarts (local)" if k == 1 or d["lo_opt"] == lo else None)
     if math.isfinite(d["smin"]):
         # The sampled range: a bar with end markers (visible when all samples coincide).
         ax.plot([-0.6, -0.6], [d["smin"], d["smax"]], color="tab:green", lw=5, marker="_", ms=16,
@@ -89,7 +98,7 @@ def draw(ax, d):
     ax.set_ylabel("response amplitude [m]")
     verdict = "certified" if d["certified"] else "NOT certified"
     ax.set_title(f"{d['freq']:g} Hz: {verdict}", fontsize=10)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, frameon=False)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, frameon=False)
 
 
 def main(argv=None):
@@ -102,7 +111,7 @@ def main(argv=None):
     def work():
         common.check_output(args.out)
         data = [read_verify(p) for p in args.verify]
-        fig, axes = plt.subplots(1, len(data), figsize=(5.4 * len(data), 5.0), squeeze=False)
+        fig, axes = plt.subplots(1, len(data), figsize=(6.6 * len(data), 5.6), squeeze=False)
         for ax, d in zip(axes[0], data):
             draw(ax, d)
         fig.suptitle("Certification of the bounds: α sampling and time integration", fontsize=11)

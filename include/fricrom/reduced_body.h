@@ -66,6 +66,15 @@ void WriteReducedBody(const ReducedBody& body, const std::string& path,
 Eigen::MatrixXd FixedInterfaceModalDamping(const Eigen::MatrixXd& reduced_stiffness,
                                            int num_boundary, double zeta);
 
+// Viscous damping of the component's own modes (the reduced body with its boundary free):
+// C = M Φ diag(2 zeta w_k) Φᵀ M over the eigenpairs K φ = w² M φ (Φᵀ M Φ = I), so that every mode
+// of the body — its first bending mode too, which a CB model with the excitation and response
+// nodes on the boundary carries mostly in its constraint modes — has the ratio zeta. Modes with
+// w² <= 0 (rigid) are undamped. Throws std::invalid_argument on sizes or zeta < 0, and when M is
+// not positive definite.
+Eigen::MatrixXd ComponentModalDamping(const Eigen::MatrixXd& reduced_stiffness,
+                                      const Eigen::MatrixXd& reduced_mass, double zeta);
+
 // The body of a reduction of (K, `mass`) of `model`: boundary DOFs of `boundary` then modal
 // coordinates, the boundary nodes with their coordinates from `model` (NaN when it has none), the
 // named sets of `model` that exist restricted to the boundary nodes, the unit acceleration loads
@@ -86,8 +95,13 @@ struct FeBodySpec {
   std::vector<std::string> boundary_sets;   // node set names kept physical (at least one)
   std::vector<int> components = {1, 2, 3};  // 1..6; empty: every component the matrix has
   CraigBamptonOptions reduction;            // modes / cutoff etc.
-  // >= 0 (< 1): C = FixedInterfaceModalDamping(K_r, nb, ratio) when > 0; 0: no damping matrix.
+  // >= 0 (< 1): the ratio of the modes named by damping_basis when > 0; 0: no damping matrix.
   double modal_damping_ratio = 0.0;
+  enum class DampingBasis {
+    kFixedInterface,  // FixedInterfaceModalDamping: the CB modes only (boundary undamped)
+    kComponent,       // ComponentModalDamping: every mode of the reduced body
+  };
+  DampingBasis damping_basis = DampingBasis::kFixedInterface;
   bool IsValid(std::string* error) const;
 };
 

@@ -130,7 +130,8 @@ std::vector<std::string> Strings(const Reader& rd, const toml::table& t, const s
   return out;
 }
 
-// fe = { stiffness, mass, sets, boundary, components, modes, cutoff_hz, shift_hz, modal_damping }
+// fe = { stiffness, mass, sets, boundary, components, modes, cutoff_hz, shift_hz, modal_damping,
+//        modal_damping_basis }
 ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::string& where,
                      const fs::path& base) {
   const toml::node& fn = rd.Require(body, where, "fe");
@@ -139,7 +140,7 @@ ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::strin
   const toml::table& t = *fn.as_table();
   rd.CheckKeys(t, w,
                {"stiffness", "mass", "sets", "boundary", "components", "modes", "cutoff_hz",
-                "shift_hz", "modal_damping"});
+                "shift_hz", "modal_damping", "modal_damping_basis"});
   FeBodySpec spec;
   spec.stiffness_file = (base / rd.String(t, w, "stiffness")).string();
   if (t.get("mass")) spec.mass_file = (base / rd.String(t, w, "mass")).string();
@@ -163,6 +164,15 @@ ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::strin
   const double shift_hz = rd.NonNegative(t, w, "shift_hz", 0.0);
   spec.reduction.shift = -EigenvalueFromHz(shift_hz);
   spec.modal_damping_ratio = rd.NonNegative(t, w, "modal_damping", 0.0);
+  if (t.get("modal_damping_basis")) {
+    const std::string basis = rd.String(t, w, "modal_damping_basis");
+    if (basis == "component") {
+      spec.damping_basis = FeBodySpec::DampingBasis::kComponent;
+    } else if (basis != "fixed-interface") {
+      rd.Fail(w + ".modal_damping_basis", "expected \"fixed-interface\" or \"component\"",
+              t.get("modal_damping_basis"));
+    }
+  }
   std::string error;
   if (!spec.IsValid(&error)) rd.Fail(w, error, &fn);
   ReduceFeBodyOptions opt;

@@ -2,6 +2,7 @@
 // file (schema fricrom-reduced-model-1) that `fricrom reduce` and ReduceFeBody's cache write.
 #include "fricrom/reduced_body.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -187,6 +188,30 @@ Eigen::MatrixXd FixedInterfaceModalDamping(const Eigen::MatrixXd& reduced_stiffn
     c(j, j) = 2 * zeta * std::sqrt(std::max(reduced_stiffness(j, j), 0.0));
   }
   return c;
+}
+
+Eigen::MatrixXd ComponentModalDamping(const Eigen::MatrixXd& reduced_stiffness,
+                                      const Eigen::MatrixXd& reduced_mass, double zeta) {
+  const Eigen::Index n = reduced_stiffness.rows();
+  if (reduced_stiffness.cols() != n || reduced_mass.rows() != n || reduced_mass.cols() != n ||
+      !(zeta >= 0)) {
+    throw std::invalid_argument(
+        "ComponentModalDamping: needs square K and M of one size and zeta >= 0");
+  }
+  if (n == 0) return Eigen::MatrixXd();
+  // Symmetrised: the reduced matrices are symmetric up to round-off.
+  const Eigen::MatrixXd k = 0.5 * (reduced_stiffness + reduced_stiffness.transpose());
+  const Eigen::MatrixXd m = 0.5 * (reduced_mass + reduced_mass.transpose());
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, m);
+  if (Eigen::LLT<Eigen::MatrixXd>(m).info() != Eigen::Success || eig.info() != Eigen::Success) {
+    throw std::invalid_argument("ComponentModalDamping: M is not positive definite");
+  }
+  const Eigen::VectorXd w2 = eig.eigenvalues();
+  Eigen::VectorXd d(n);
+  for (Eigen::Index j = 0; j < n; ++j) d[j] = w2[j] > 0 ? 2 * zeta * std::sqrt(w2[j]) : 0.0;
+  const Eigen::MatrixXd mphi = m * eig.eigenvectors();
+  Eigen::MatrixXd c = mphi * d.asDiagonal() * mphi.transpose();
+  return 0.5 * (c + c.transpose());
 }
 
 ReducedBody MakeReducedBody(const FeModel& model, const FeMatrix& mass,

@@ -237,6 +237,20 @@ std::string ReducedBodyCachePath(const FeBodySpec& spec, const std::string& cach
   return CacheFile(spec, cache_dir, ReducedBodyCacheKey(spec));
 }
 
+namespace {
+
+// The cache holds the fixed-interface damping (its key knows the ratio); the component basis is
+// derived from the body's own K and M after it is read or reduced.
+ReducedBody WithDamping(const FeBodySpec& spec, ReducedBody body) {
+  if (spec.damping_basis == FeBodySpec::DampingBasis::kComponent &&
+      spec.modal_damping_ratio > 0) {
+    body.damping = ComponentModalDamping(body.stiffness, body.mass, spec.modal_damping_ratio);
+  }
+  return body;
+}
+
+}  // namespace
+
 ReducedBody ReduceFeBody(const FeBodySpec& spec, const ReduceFeBodyOptions& options,
                          CraigBamptonSummary* summary) {
   std::string why;
@@ -262,10 +276,10 @@ ReducedBody ReduceFeBody(const FeBodySpec& spec, const ReduceFeBodyOptions& opti
       s->frequencies_hz.assign(body.modal_frequencies_hz.data(),
                                body.modal_frequencies_hz.data() + s->modes);
       say(s->message);
-      return body;
+      return WithDamping(spec, std::move(body));
     }
   }
-  return ReduceFromFiles(spec, options, key, s);
+  return WithDamping(spec, ReduceFromFiles(spec, options, key, s));
 }
 
 }  // namespace fricrom

@@ -52,6 +52,27 @@ class CascadeVariant : public ::testing::Test {
   fs::path path_;
 };
 
+// modal_damping_basis = "component" damps the blades' own modes (ComponentModalDamping) instead
+// of the fixed-interface modes only; an unknown basis is an error naming the key.
+TEST_F(CascadeVariant, ComponentDampingBasisChangesOnlyTheDamping) {
+  const Case fixed = LoadCase((kDir / "coarse.toml").string());
+  const Case component = Load("modal_damping = 0.002 }",
+                              "modal_damping = 0.002, modal_damping_basis = \"component\" }", 3);
+  ASSERT_EQ(component.model.damping.rows(), fixed.model.damping.rows());
+  EXPECT_TRUE(component.model.stiffness == fixed.model.stiffness);
+  EXPECT_TRUE(component.model.mass == fixed.model.mass);
+  EXPECT_GT((component.model.damping - fixed.model.damping).norm(),
+            0.1 * fixed.model.damping.norm());
+  EXPECT_LT((component.model.damping - component.model.damping.transpose()).norm(),
+            1e-12 * component.model.damping.norm());
+  try {
+    Load("modal_damping = 0.002 }", "modal_damping = 0.002, modal_damping_basis = \"modal\" }");
+    FAIL() << "an unknown basis was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("modal_damping_basis"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
   const Case c = LoadCase((kDir / "coarse.toml").string());
   ASSERT_EQ(c.model.contacts.size(), 216u);  // 4 faces x 27 pairs x 2 tangential directions
