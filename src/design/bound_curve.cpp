@@ -1,6 +1,5 @@
 // Bound curves over frequency: the bounds point by point (independent units of work, on threads),
 // the order-free warm start from the neighbours' optima, and the resonance of the maximum bound.
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -57,20 +56,14 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   const BoundsResult& own = pass1[i];
   // The neighbours' optima as known solutions: Newton from their x keeps their branch of
   // periodic solutions (continuation in frequency), where a cold start at their α may not.
-  // A neighbour's minimum starts a minimum run, its maximum a maximum run.
   std::vector<KnownSolution> known;
   for (int j : {i - 1, i + 1}) {
     if (j < 0 || j >= n) continue;
-    for (const bool is_max : {false, true}) {
-      const BoundSolution& s = is_max ? pass1[j].max : pass1[j].min;
-      if (AlreadyTried(s, own)) continue;
-      auto same = std::find_if(known.begin(), known.end(),
-                               [&](const KnownSolution& k) { return k.alpha == s.alpha; });
-      if (same == known.end()) {
-        known.push_back({s.x, s.alpha, !is_max, is_max});
-      } else {
-        (is_max ? same->run_max : same->run_min) = true;
-      }
+    for (const BoundSolution* s : {&pass1[j].min, &pass1[j].max}) {
+      if (AlreadyTried(*s, own)) continue;
+      bool dup = false;
+      for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
+      if (!dup) known.push_back({s->x, s->alpha});
     }
   }
   BoundsResult out = own;
