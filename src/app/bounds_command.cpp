@@ -56,7 +56,9 @@ int DesignCommands::State::RunBounds() {
   double wall = 0.0;
   const CurveUnitsRun run = RunCurveUnits(
       dir,
-      JournalHeader("bounds", bounds_case, {{"freqs_hz", freqs}, {"warm_start", co.warm_start}, {"anchor_every", co.anchor_every}}),
+      JournalHeader(
+          "bounds", bounds_case,
+          {{"freqs_hz", freqs}, {"warm_start", co.warm_start}, {"anchor_every", co.anchor_every}}),
       resume, system, [&] { return MakeCaseBalance(c); }, freqs, co,
       [&](const CurveUnitsRun& r) {
         progress.Done();

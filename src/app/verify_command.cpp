@@ -123,7 +123,8 @@ std::vector<KnownSolution> SolutionsBeyond(const HarmonicBalance& system, double
   std::vector<KnownSolution> known;
   for (size_t i = 0; i < y.size(); ++i) {
     if (std::isnan(y[i]) || !Outside(y[i], lo, hi)) continue;
-    const FrfPoint p = SolveAtFrequency(system, alphas[i], freq_hz, Eigen::VectorXd(), FrfOptions{});
+    const FrfPoint p =
+        SolveAtFrequency(system, alphas[i], freq_hz, Eigen::VectorXd(), FrfOptions{});
     if (p.status == SolverStatus::kConverged) known.push_back({p.x, alphas[i]});
   }
   for (json& r : *runs) {
@@ -247,14 +248,11 @@ int DesignCommands::State::RunVerify() {
                           {"bounds_moved", moved},
                           {"y_min_optimised", Num(lo0)},
                           {"y_max_optimised", Num(hi0)}};
-  j["sampling"] = {{"samples", samples},
-                   {"converged", samples - st.failed},
-                   {"failed", st.failed},
-                   {"failed_share", static_cast<double>(st.failed) / samples},
-                   {"inside", st.inside},
-                   {"outside", st.outside},
-                   {"sampled_min", Num(st.min)},
-                   {"sampled_max", Num(st.max)}};
+  j["sampling"] = {
+      {"samples", samples},         {"converged", samples - st.failed},
+      {"failed", st.failed},        {"failed_share", static_cast<double>(st.failed) / samples},
+      {"inside", st.inside},        {"outside", st.outside},
+      {"sampled_min", Num(st.min)}, {"sampled_max", Num(st.max)}};
   j["time_integration"] = runs;
   j["time_integration_outside"] = rt.outside;
   j["time_integration_unsteady"] = rt.unsteady;
@@ -268,9 +266,10 @@ int DesignCommands::State::RunVerify() {
     std::cout << "Certification of the bounds at " << freq << " Hz: [" << lo << ", " << hi
               << "] m\n";
     if (!beyond.empty()) {
-      std::cout << "  the optimised bounds [" << lo0 << ", " << hi0 << "] m were local: "
-                << beyond.size() << " solution(s) beyond them restarted the optimisation ("
-                << moved << " bound(s) moved)\n";
+      std::cout << "  the optimised bounds [" << lo0 << ", " << hi0
+                << "] m were local: " << beyond.size()
+                << " solution(s) beyond them restarted the optimisation (" << moved
+                << " bound(s) moved)\n";
     }
     std::cout << "  alpha sampling: " << samples - st.failed << "/" << samples << " solved, "
               << st.outside << " outside the bounds, sampled range [" << st.min << ", " << st.max

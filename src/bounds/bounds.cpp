@@ -363,8 +363,7 @@ struct RunTally {
 }  // namespace
 
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
-                            const BoundsOptions& options,
-                            const std::vector<Eigen::VectorXd>& seeds,
+                            const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
                             const std::vector<Eigen::VectorXd>& known_x,
                             const std::vector<int>& directions) {
   const int nc = system.num_alpha();
@@ -397,7 +396,8 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     setup.x_scale.segment(j * n, n).setConstant(std::max(block, 1e-6 * x_ref));
   }
 
-  const std::vector<SeedStart> st = SeedStarts(system, freq_hz, options, seeds, known_x, setup, &result);
+  const std::vector<SeedStart> st =
+      SeedStarts(system, freq_hz, options, seeds, known_x, setup, &result);
   // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best), never
   // another run's result, so the outcome does not depend on the order of the runs.
   const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};

@@ -42,11 +42,10 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   }
   for (const KnownSolution& k : known) {
     if (k.x.size() != system.num_unknowns() || k.alpha.size() != system.num_alpha()) {
-      throw std::invalid_argument("ImproveBounds: a known solution has " +
-                                  std::to_string(k.x.size()) + " unknowns and " +
-                                  std::to_string(k.alpha.size()) + " alpha, the system " +
-                                  std::to_string(system.num_unknowns()) + " and " +
-                                  std::to_string(system.num_alpha()));
+      throw std::invalid_argument(
+          "ImproveBounds: a known solution has " + std::to_string(k.x.size()) + " unknowns and " +
+          std::to_string(k.alpha.size()) + " alpha, the system " +
+          std::to_string(system.num_unknowns()) + " and " + std::to_string(system.num_alpha()));
     }
   }
   if (known.empty()) return 0;

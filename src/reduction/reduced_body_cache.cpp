@@ -242,8 +242,7 @@ namespace {
 // The cache holds the fixed-interface damping (its key knows the ratio); the component basis is
 // derived from the body's own K and M after it is read or reduced.
 ReducedBody WithDamping(const FeBodySpec& spec, ReducedBody body) {
-  if (spec.damping_basis == FeBodySpec::DampingBasis::kComponent &&
-      spec.modal_damping_ratio > 0) {
+  if (spec.damping_basis == FeBodySpec::DampingBasis::kComponent && spec.modal_damping_ratio > 0) {
     body.damping = ComponentModalDamping(body.stiffness, body.mass, spec.modal_damping_ratio);
   }
   return body;

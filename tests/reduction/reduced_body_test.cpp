@@ -5,14 +5,13 @@
 #include "fricrom/reduced_body.h"
 
 #include <gtest/gtest.h>
-
-#include <Eigen/Eigenvalues>
-#include <complex>
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -426,8 +425,8 @@ TEST(ReducedBody, ComponentModalDampingGivesEveryElasticModeTheRatio) {
     EXPECT_NEAR(-l.real() / std::abs(l), 0.05, 1e-12) << l;
   }
   // Hand case: M = I, K = diag(4, 9): C = diag(2 zeta 2, 2 zeta 3).
-  const Eigen::MatrixXd c = ComponentModalDamping(Eigen::Vector2d(4, 9).asDiagonal().toDenseMatrix(),
-                                                  Eigen::Matrix2d::Identity(), 0.1);
+  const Eigen::MatrixXd c = ComponentModalDamping(
+      Eigen::Vector2d(4, 9).asDiagonal().toDenseMatrix(), Eigen::Matrix2d::Identity(), 0.1);
   EXPECT_NEAR(c(0, 0), 0.4, 1e-14);
   EXPECT_NEAR(c(1, 1), 0.6, 1e-14);
   EXPECT_NEAR(c(0, 1), 0.0, 1e-14);
@@ -435,8 +434,9 @@ TEST(ReducedBody, ComponentModalDampingGivesEveryElasticModeTheRatio) {
                std::invalid_argument);
   EXPECT_THROW(ComponentModalDamping(Eigen::Matrix2d::Identity(), Eigen::Matrix2d::Identity(), -1),
                std::invalid_argument);
-  EXPECT_THROW(ComponentModalDamping(Eigen::Matrix2d::Identity(), -Eigen::Matrix2d::Identity(), 0.1),
-               std::invalid_argument);
+  EXPECT_THROW(
+      ComponentModalDamping(Eigen::Matrix2d::Identity(), -Eigen::Matrix2d::Identity(), 0.1),
+      std::invalid_argument);
 }
 
 TEST(ReducedBody, ReduceCliModalDampingIsTheLibraryConstruction) {
