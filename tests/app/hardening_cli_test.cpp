@@ -88,6 +88,30 @@ TEST(CliHardening, CertificateRestsOnEvidence) {
   EXPECT_EQ(converged, 20) << "the single-frequency solve should now converge at mu = 0";
 }
 
+// verify restarts the bound optimisation from the samples beyond a local bound: one seed (α = 0,
+// a KKT point of both directions at 266 Hz) and no sample check give y_min = y_max; 12 of the 16
+// corners lie below, the restart reaches the thorough y_min (2.0376e-4 m) and then all 16 lie
+// inside, so the run is certified and says that the bound moved.
+TEST(CliHardening, VerifyRestartsFromSolutionsBeyondALocalBound) {
+  TempDir tmp;
+  const CliRun r = Stdout("verify " + Quote(kBaseline) +
+                          " --freq 266 --seeds 0,0,0,0 --check-samples 0 --alpha-samples 16 "
+                          "--time-runs 0 --json" +
+                          Out(tmp));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  const json& imp = j.at("bounds_improved");
+  EXPECT_GE(imp.at("restarts").get<int>(), 1);
+  EXPECT_EQ(imp.at("bounds_moved").get<int>(), 1);
+  const double y_min = j.at("y_min"), optimised = imp.at("y_min_optimised");
+  EXPECT_LT(y_min, 0.9 * optimised);
+  EXPECT_NEAR(y_min, 2.0375555840e-4, 1e-9);
+  EXPECT_EQ(j.at("y_max").get<double>(), imp.at("y_max_optimised").get<double>());
+  EXPECT_EQ(j.at("sampling").at("outside").get<int>(), 0);
+  EXPECT_LE(y_min, j.at("sampling").at("sampled_min").get<double>() * (1 + 1e-6));
+  EXPECT_TRUE(j.at("certified").get<bool>()) << r.output;
+}
+
 // Defect 9: frf --freq converges where the sweep does, to the sweep's branch.
 TEST(CliHardening, SingleFrequencyAsStrongAsTheSweep) {
   TempDir tmp;

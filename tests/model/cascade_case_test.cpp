@@ -73,6 +73,30 @@ TEST_F(CascadeVariant, ComponentDampingBasisChangesOnlyTheDamping) {
   }
 }
 
+// coarse_damped.toml is coarse.toml with its name and the blades' damping basis changed, nothing
+// else (its header comment aside), so that what the docs measure on it stays comparable.
+TEST(Cascade, DampedVariantDiffersOnlyInTheDamping) {
+  std::string coarse = Read(kDir / "coarse.toml");
+  const std::string damped = Read(kDir / "coarse_damped.toml");
+  const auto replace_all = [](std::string* t, const std::string& from, const std::string& to) {
+    int n = 0;
+    for (size_t at = t->find(from); at != std::string::npos; at = t->find(from, at + to.size())) {
+      t->replace(at, from.size(), to);
+      ++n;
+    }
+    return n;
+  };
+  EXPECT_EQ(replace_all(&coarse, "name = \"cascade3-coarse\"", "name = \"cascade3-coarse-damped\""),
+            1);
+  EXPECT_EQ(replace_all(&coarse, "modal_damping = 0.002 }",
+                        "modal_damping = 0.002, modal_damping_basis = \"component\" }"),
+            3);
+  const size_t body = damped.find("# Three coarse FE blade sectors");
+  ASSERT_NE(body, std::string::npos);
+  EXPECT_EQ(damped.substr(body), coarse);
+  EXPECT_EQ(LoadCase((kDir / "coarse_damped.toml").string()).name, "cascade3-coarse-damped");
+}
+
 TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
   const Case c = LoadCase((kDir / "coarse.toml").string());
   ASSERT_EQ(c.model.contacts.size(), 216u);  // 4 faces x 27 pairs x 2 tangential directions
