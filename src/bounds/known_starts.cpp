@@ -61,7 +61,8 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
     directions.push_back((k.run_min ? 1 : 0) | (k.run_max ? 2 : 0));
     if (!SolveNewton(HbmAtFrequency(system, omega, alpha), NewtonOptions{}, &x)
              .IsSolutionUsable()) {
-      xs.push_back(k.x);  // still a start: StartSolution falls back on the usual routes
+      // The same Newton would fail again in StartSolution: its usual routes only.
+      xs.emplace_back();
       continue;
     }
     xs.push_back(x);
