@@ -6,7 +6,7 @@ std::vector<std::string> CertificationGaps(const CertificationEvidence& e) {
   std::vector<std::string> gaps;
   const int solved = e.samples - e.samples_failed;
   const int steady = e.time_runs - e.time_runs_unsteady;
-  if (solved <= 0 && steady <= 0) gaps.push_back("nothing was checked");
+  if (solved <= 0 && steady <= 0) gaps.emplace_back("nothing was checked");
   if (e.samples_failed > 0) {
     gaps.push_back(std::to_string(e.samples_failed) + " of " + std::to_string(e.samples) +
                    " alpha samples did not converge");
