@@ -46,6 +46,11 @@ std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0
 std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
                                    double omega, const Eigen::VectorXd& alpha);
 
+// The value bounds are ranked by: larger = more response (the maximum response minimises η).
+inline double RankValue(const BoundSolution& s, BoundsOptions::Objective objective) {
+  return objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
+}
+
 // Fills the derived fields of a solution (x, α set).
 void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
 

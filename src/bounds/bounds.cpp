@@ -22,15 +22,11 @@ namespace {
 
 using bounds_detail::Describe;
 using bounds_detail::IpoptBounds;
+using bounds_detail::RankValue;
 using bounds_detail::RunReduced;
 using bounds_detail::RunSetup;
 using bounds_detail::StartIsKktPoint;
 using bounds_detail::StartSolution;
-
-// Ranks runs: the larger, the more response (the maximum response minimises η).
-double RankValue(const BoundSolution& s, BoundsOptions::Objective objective) {
-  return objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
-}
 
 // Up to kListed entries are listed; longer vectors (FE interfaces) are summarised.
 constexpr int kListed = 12;

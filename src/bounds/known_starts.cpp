@@ -15,11 +15,6 @@
 namespace fricrom {
 namespace {
 
-// Larger = more response (the maximum response minimises η).
-double Rank(const BoundsOptions& options, const BoundSolution& s) {
-  return options.objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
-}
-
 // A bound moves outwards only by more than the solvers' noise.
 constexpr double kMoveMargin = 1e-9;
 
@@ -27,8 +22,8 @@ bool Beats(const BoundsOptions& options, const BoundSolution& cand, const BoundS
            bool is_max) {
   if (!cand.IsUsable()) return false;
   if (!bound.IsUsable()) return true;
-  const double sign = is_max ? 1.0 : -1.0, b = Rank(options, bound);
-  return sign * (Rank(options, cand) - b) > kMoveMargin * std::abs(b);
+  const double sign = is_max ? 1.0 : -1.0, b = bounds_detail::RankValue(bound, options.objective);
+  return sign * (bounds_detail::RankValue(cand, options.objective) - b) > kMoveMargin * std::abs(b);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bound_runs.h"
 #include "fricrom/bounds.h"
 #include "fricrom/frf.h"
 #include "fricrom/units.h"
@@ -26,10 +27,6 @@ double Rank(const HarmonicBalance& system, const BoundsOptions& options, const E
             double omega, const Eigen::VectorXd& alpha) {
   if (options.objective == BoundsOptions::kAmplitude) return system.Amplitude(x);
   return -system.Energies(x, omega, alpha).loss_factor();
-}
-
-double Rank(const BoundsOptions& options, const BoundSolution& s) {
-  return options.objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
 }
 
 // The sample itself as a bound candidate: a converged harmonic-balance solution at its α.
@@ -97,8 +94,10 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
   const Eigen::VectorXd warm = result->min.IsUsable() ? result->min.x : Eigen::VectorXd();
   const Eigen::VectorXd stick = system.StickLinearSolution(omega);
   SampleCandidates c;
-  double best_lo = result->min.IsUsable() ? Rank(options, result->min) : 0.0;
-  double best_hi = result->max.IsUsable() ? Rank(options, result->max) : 0.0;
+  double best_lo =
+      result->min.IsUsable() ? bounds_detail::RankValue(result->min, options.objective) : 0.0;
+  double best_hi =
+      result->max.IsUsable() ? bounds_detail::RankValue(result->max, options.objective) : 0.0;
   for (int i = 0; i < options.check_samples; ++i) {
     Eigen::VectorXd a(nc);
     for (int k = 0; k < nc; ++k) a[k] = u(rng);
@@ -167,7 +166,8 @@ BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
     BoundSolution& bound = is_max ? result.max : result.min;
     BoundSolution best = FromSample(system, omega, sample, alpha);
     const double sign = is_max ? 1.0 : -1.0;
-    if (restarted.IsUsable() && sign * Rank(options, restarted) >= sign * Rank(options, best)) {
+    if (restarted.IsUsable() && sign * bounds_detail::RankValue(restarted, options.objective) >=
+                                    sign * bounds_detail::RankValue(best, options.objective)) {
       best = restarted;
       best.seed = static_cast<int>(seeds.size()) + restarted.seed;  // restart seeds come last
       best.message += " (optimiser restarted from an alpha sample beyond the first bound)";
