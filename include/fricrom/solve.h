@@ -56,6 +56,12 @@ struct NewtonOptions {
   int max_backtracks = 30;            // Armijo backtracking steps per iteration
   double armijo = 1e-4;
   double divergence_factor = 1e8;  // ‖R‖ growing past factor·‖R0‖ → diverged
+  // Stall test, off when 0: stop (kMaxIterations) once ‖R‖ has fallen by less than the fraction
+  // stall_decrease over the last stall_window iterations. Newton on the piecewise-smooth contact
+  // residual can crawl at one ‖R‖ for its whole iteration budget; where a failed solve is cheap
+  // to replace (the bound optimiser's line search halves its step) this ends it early.
+  int stall_window = 0;
+  double stall_decrease = 0.01;
   // Systems of at least this many unknowns solve each Newton step first by GMRES preconditioned
   // with the LU of the last factorised Jacobian and factorise anew only when GMRES misses
   // krylov_tolerance (relative) within krylov_max_iterations products; 0 = a new LU every step.

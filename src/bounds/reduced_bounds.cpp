@@ -158,7 +158,11 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
   if (!value_and_gradient(x, a, &phi, &g, nullptr, &lu)) {
     return finish(BoundStatus::kFailed, "singular Jacobian at the start");
   }
-  const NewtonOptions newton;
+  // A line-search solve that stalls is ended early: its trial step is halved anyway. On the FE
+  // cascade (1082.65 and 1103.06 Hz) 1 of 2375 line-search solves that converged had crawled 8
+  // steps at < 1 %, while failed ones spent 35-51 % of their iterations past that point.
+  NewtonOptions newton;
+  newton.stall_window = 8;
   double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
   int quiet = 0;
   std::vector<double> gains;  // decrease of the objective per accepted iteration

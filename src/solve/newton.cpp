@@ -3,6 +3,7 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "fricrom/solve.h"
 #include "linear/dense_lapack.h"
@@ -37,6 +38,10 @@ bool NewtonOptions::IsValid(std::string* error) const {
   if (max_backtracks < 0) return bad("max_backtracks must be >= 0");
   if (!(armijo > 0.0 && armijo < 0.5)) return bad("armijo must lie in (0, 0.5)");
   if (!(divergence_factor > 1.0)) return bad("divergence_factor must be > 1");
+  if (stall_window < 0) return bad("stall_window must be >= 0");
+  if (!(stall_decrease > 0.0 && stall_decrease < 1.0)) {
+    return bad("stall_decrease must lie in (0, 1)");
+  }
   if (krylov_min_size < 0) return bad("krylov_min_size must be >= 0");
   if (krylov_max_iterations < 1) return bad("krylov_max_iterations must be >= 1");
   if (!(krylov_tolerance > 0.0 && krylov_tolerance < 1.0)) {
@@ -182,6 +187,7 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
   // The Jacobian is evaluated only where a step is taken: a solve that starts or lands within
   // the tolerance pays no Jacobian there (warm-started solves of the bound optimiser).
   double previous_norm = 0.0;
+  std::vector<double> norms;  // ‖R‖/scale after each iteration, for the stall test
   system.Evaluate(*x, &r, nullptr);
   ++summary.evaluations;
   double norm = r.norm() / scale;
@@ -268,6 +274,17 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
       summary.status = SolverStatus::kMaxIterations;
       summary.message = "stagnated: step below step_tolerance";
       return summary;
+    }
+    if (options.stall_window > 0) {
+      norms.push_back(norm);
+      const std::ptrdiff_t w = options.stall_window, n = std::ssize(norms);
+      const double before = n > w ? norms[n - 1 - w] : summary.initial_residual;
+      if (n >= w && norm > options.residual_tolerance &&
+          norm > (1.0 - options.stall_decrease) * before) {
+        summary.status = SolverStatus::kMaxIterations;
+        summary.message = "stalled: |R| fell by less than stall_decrease over stall_window steps";
+        return summary;
+      }
     }
   }
 }

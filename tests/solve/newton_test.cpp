@@ -168,6 +168,56 @@ TEST(Newton, NeverReportsConvergenceWithoutARoot) {
   EXPECT_GE(s.final_residual, 1.0 - 1e-12);
 }
 
+// R(x) = x − 1 with a Jacobian 1000× too large: every Newton step removes 0.1 % of ‖R‖, a crawl
+// like that of a contact residual whose Jacobian is wrong across a kink.
+struct Crawling : SquareSystem {
+  int size() const override { return 1; }
+  void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
+    r->resize(1);
+    (*r)[0] = x[0] - 1.0;
+    if (j) j->setConstant(1, 1, 1000.0);
+  }
+};
+
+// The stall test ends a solve that crawls without a root, and leaves converging solves untouched
+// to the last bit (the bound optimiser relies on that: only failures get cheaper).
+TEST(Newton, StallTestEndsCrawlingSolvesOnly) {
+  NewtonOptions plain;
+  plain.max_iterations = 40;
+  NewtonOptions stall = plain;
+  stall.stall_window = 5;
+  Eigen::VectorXd x_plain = Eigen::VectorXd::Constant(1, 3.0), x_stall = x_plain;
+  const NewtonSummary a = SolveNewton(Crawling{}, plain, &x_plain);
+  const NewtonSummary b = SolveNewton(Crawling{}, stall, &x_stall);
+  EXPECT_FALSE(b.IsSolutionUsable());
+  EXPECT_NE(b.message.find("stalled"), std::string::npos) << b.BriefReport();
+  EXPECT_EQ(a.iterations, plain.max_iterations) << a.BriefReport();
+  EXPECT_EQ(b.iterations, stall.stall_window) << b.BriefReport();  // 0.5 % in 5 steps
+  for (const Eigen::VectorXd& start :
+       {Eigen::VectorXd(Eigen::Vector2d(3.0, 1.0)), Eigen::VectorXd(Eigen::Vector2d(-0.3, 2.0))}) {
+    Eigen::VectorXd p = start, q = start;
+    const NewtonSummary sp = SolveNewton(Circle{}, plain, &p);
+    const NewtonSummary sq = SolveNewton(Circle{}, stall, &q);
+    EXPECT_EQ(sq.status, SolverStatus::kConverged);
+    EXPECT_EQ(sp.iterations, sq.iterations);
+    EXPECT_EQ(p, q);  // bit for bit
+  }
+  Eigen::VectorXd p = Eigen::VectorXd::Constant(1, 3.0), q = p;
+  SolveNewton(Arctan{}, plain, &p);
+  EXPECT_TRUE(SolveNewton(Arctan{}, stall, &q).IsSolutionUsable());
+  EXPECT_EQ(p, q);
+  std::string err;
+  stall.stall_window = -1;
+  EXPECT_FALSE(stall.IsValid(&err));
+  EXPECT_NE(err.find("stall_window"), std::string::npos);
+  stall.stall_window = 5;
+  for (double d : {0.0, 1.0, std::nan("")}) {
+    stall.stall_decrease = d;
+    EXPECT_FALSE(stall.IsValid(&err)) << d;
+    EXPECT_NE(err.find("stall_decrease"), std::string::npos);
+  }
+}
+
 TEST(Newton, InvalidOptionsAndSizesThrow) {
   NewtonOptions o;
   o.residual_tolerance = -1.0;
