@@ -52,12 +52,13 @@ class CascadeVariant : public ::testing::Test {
   fs::path path_;
 };
 
-// modal_damping_basis = "component" damps the blades' own modes (ComponentModalDamping) instead
-// of the fixed-interface modes only; an unknown basis is an error naming the key.
+// modal_damping_basis = "component" (coarse.toml) damps the blades' own modes
+// (ComponentModalDamping); "fixed-interface" damps the CB modes only; an unknown basis is an error
+// naming the key.
 TEST_F(CascadeVariant, ComponentDampingBasisChangesOnlyTheDamping) {
-  const Case fixed = LoadCase((kDir / "coarse.toml").string());
-  const Case component = Load("modal_damping = 0.002 }",
-                              "modal_damping = 0.002, modal_damping_basis = \"component\" }", 3);
+  const Case component = LoadCase((kDir / "coarse.toml").string());
+  const Case fixed = Load("modal_damping = 0.002, modal_damping_basis = \"component\" }",
+                          "modal_damping = 0.002, modal_damping_basis = \"fixed-interface\" }", 3);
   ASSERT_EQ(component.model.damping.rows(), fixed.model.damping.rows());
   EXPECT_TRUE(component.model.stiffness == fixed.model.stiffness);
   EXPECT_TRUE(component.model.mass == fixed.model.mass);
@@ -66,18 +67,19 @@ TEST_F(CascadeVariant, ComponentDampingBasisChangesOnlyTheDamping) {
   EXPECT_LT((component.model.damping - component.model.damping.transpose()).norm(),
             1e-12 * component.model.damping.norm());
   try {
-    Load("modal_damping = 0.002 }", "modal_damping = 0.002, modal_damping_basis = \"modal\" }");
+    Load("modal_damping_basis = \"component\" }", "modal_damping_basis = \"modal\" }");
     FAIL() << "an unknown basis was accepted";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("modal_damping_basis"), std::string::npos) << e.what();
   }
 }
 
-// coarse_damped.toml is coarse.toml with its name and the blades' damping basis changed, nothing
-// else (its header comment aside), so that what the docs measure on it stays comparable.
-TEST(Cascade, DampedVariantDiffersOnlyInTheDamping) {
+// coarse_fixed_interface_damping.toml is coarse.toml with its name and the blades' damping basis
+// changed, nothing else (its header comment aside), so that what the docs measured on it (the
+// case's damping until 2026-11-27) stays reproducible and comparable.
+TEST(Cascade, FixedInterfaceVariantDiffersOnlyInTheDamping) {
   std::string coarse = Read(kDir / "coarse.toml");
-  const std::string damped = Read(kDir / "coarse_damped.toml");
+  const std::string variant = Read(kDir / "coarse_fixed_interface_damping.toml");
   const auto replace_all = [](std::string* t, const std::string& from, const std::string& to) {
     int n = 0;
     for (size_t at = t->find(from); at != std::string::npos; at = t->find(from, at + to.size())) {
@@ -86,15 +88,17 @@ TEST(Cascade, DampedVariantDiffersOnlyInTheDamping) {
     }
     return n;
   };
-  EXPECT_EQ(replace_all(&coarse, "name = \"cascade3-coarse\"", "name = \"cascade3-coarse-damped\""),
+  EXPECT_EQ(replace_all(&coarse, "name = \"cascade3-coarse\"",
+                        "name = \"cascade3-coarse-fixed-interface-damping\""),
             1);
-  EXPECT_EQ(replace_all(&coarse, "modal_damping = 0.002 }",
-                        "modal_damping = 0.002, modal_damping_basis = \"component\" }"),
+  EXPECT_EQ(replace_all(&coarse, "modal_damping = 0.002, modal_damping_basis = \"component\" }",
+                        "modal_damping = 0.002 }"),
             3);
-  const size_t body = damped.find("# Three coarse FE blade sectors");
+  const size_t body = variant.find("# Three coarse FE blade sectors");
   ASSERT_NE(body, std::string::npos);
-  EXPECT_EQ(damped.substr(body), coarse);
-  EXPECT_EQ(LoadCase((kDir / "coarse_damped.toml").string()).name, "cascade3-coarse-damped");
+  EXPECT_EQ(variant.substr(body), coarse);
+  EXPECT_EQ(LoadCase((kDir / "coarse_fixed_interface_damping.toml").string()).name,
+            "cascade3-coarse-fixed-interface-damping");
 }
 
 TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
