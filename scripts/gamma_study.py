@@ -11,7 +11,7 @@ the figure (atomically). Units SI.
 
 usage: scripts/gamma_study.py [--case meshes/cascade3/coarse.toml] [--freqs 1000,1080]
                               [--from 0 --to 0.4 --steps 5] [--out results/gamma_study]
-                              [--figure FILE.png] [--fricrom build/fricrom]
+                              [--figure FILE.png] [--fricrom build/fricrom] [--harmonics H]
 """
 
 import argparse
@@ -71,17 +71,20 @@ def main():
     p.add_argument("--out", default=os.path.join(ROOT, "results", "gamma_study"))
     p.add_argument("--figure", default=None, help="figure path (default OUT/gamma_study.png)")
     p.add_argument("--fricrom", default=os.path.join(ROOT, "build", "fricrom"))
+    p.add_argument("--harmonics", type=int, default=None,
+                   help="harmonics H of both models (default: each case's)")
     a = p.parse_args()
     freqs = [float(f) for f in a.freqs.split(",")]
     if a.steps < 2 or not a.lo < a.hi or not all(f > 0 for f in freqs):
         p.error("want --steps >= 2, --from < --to and positive --freqs")
     os.makedirs(a.out, exist_ok=True)
     gammas = [a.lo + (a.hi - a.lo) * i / (a.steps - 1) for i in range(a.steps)]
+    h_args = [] if a.harmonics is None else ["--harmonics", str(a.harmonics)]
     study = {"case": a.case, "units": "SI (m, Hz)", "gamma": gammas, "fe": {}, "lumped": {}}
     for f in freqs:
         fe = run_json([a.fricrom, "sweep", a.case, "--param", "gamma", "--from", repr(a.lo), "--to",
                        repr(a.hi), "--steps", str(a.steps), "--freq", repr(f), "--json", "--quiet",
-                       "--out", os.path.join(a.out, f"fe_sweep_{f:g}")],
+                       *h_args, "--out", os.path.join(a.out, f"fe_sweep_{f:g}")],
                       os.path.join(a.out, f"fe_sweep_{f:g}.json"))
         study["fe"][f"{f:g}"] = {k: fe[k] for k in ("values", "robustness", "y_min", "y_max",
                                                      "status", "wall_s")}
@@ -91,7 +94,7 @@ def main():
             run_json([a.fricrom, "lump", a.case, "--set", f"gamma={g!r}", "--to", lcase, "--json"],
                      os.path.join(a.out, f"lump_gamma_{g:g}.json"), outputs=(lcase,))
             b = run_json([a.fricrom, "bounds", lcase, "--freq", repr(f), "--json", "--quiet",
-                          "--out", os.path.join(a.out, f"lumped_bounds_{g:g}_{f:g}")],
+                          *h_args, "--out", os.path.join(a.out, f"lumped_bounds_{g:g}_{f:g}")],
                          os.path.join(a.out, f"lumped_bounds_{g:g}_{f:g}.json"))
             for k, key in (("robustness", "R"), ("y_min", "y_min"), ("y_max", "y_max"),
                            ("status", "status")):

@@ -14,7 +14,8 @@ geometry gmsh rejects, or whose bounds do not converge, is reported with its mes
 the worst design (R = -1), so the search moves away from it.
 
 Every design lives in OUT/designs/NAME_VALUE/ with its meshes, case, bounds and a design.json; a
-rerun with the same OUT reuses finished designs (resumable after a kill). Results, all written
+rerun with the same OUT reuses finished designs of the same frequency, harmonics and case file
+(resumable after a kill). Results, all written
 atomically: OUT/geometry_noa.json (best value, R, evaluations, remeshes, wall time),
 OUT/geometry_noa.csv, OUT/geometry_noa.png. Units SI; angles in degrees as the .geo files take them.
 
@@ -22,11 +23,13 @@ usage: scripts/geometry_noa.py [--case meshes/cascade3/coarse.toml] [--param cha
                                --from 30 --to 75 --freq 1000 [--scan 7] [--xtol 0.5]
                                [--max-evals 16]
                                [--out results/geometry_noa] [--fricrom build/fricrom] [--quiet]
+                               [--harmonics H]
 """
 
 import argparse
 import csv
 import io
+import hashlib
 import json
 import math
 import os
@@ -89,15 +92,20 @@ def evaluate(args, template, value, state):
     """One outer evaluation: remesh, case, bounds. Returns the design record (also on disk)."""
     folder = design_dir(args, value)
     record_path = os.path.join(folder, "design.json")
+    # What the design's result depends on besides its value: reused only if the same.
+    inputs = {"freq_hz": args.freq, "harmonics": args.harmonics,
+              "case_sha256": hashlib.sha256(template.encode("utf-8")).hexdigest()}
     if os.path.exists(record_path):
         with open(record_path, encoding="utf-8") as f:
             record = json.load(f)
-        record["reused"] = True
-        log(args, f"{args.param} = {value:.4f}: reused {record_path}")
-        return record
+        if record.get("inputs") == inputs:
+            record["reused"] = True
+            log(args, f"{args.param} = {value:.4f}: reused {record_path}")
+            return record
+        log(args, f"{args.param} = {value:.4f}: {record_path} is of other inputs, recomputed")
     os.makedirs(folder, exist_ok=True)
     record = {"value": value, "status": "rejected", "message": "", "R": None, "y_min": None,
-              "y_max": None, "mesh_s": None, "bounds_s": None, "reused": False}
+              "y_max": None, "mesh_s": None, "bounds_s": None, "reused": False, "inputs": inputs}
     t0 = time.monotonic()
     if not (args.valid_from < value < args.valid_to):
         record["message"] = f"{args.param} = {value} outside ({args.valid_from}, {args.valid_to})"
@@ -115,6 +123,8 @@ def evaluate(args, template, value, state):
             t1 = time.monotonic()
             cmd = [args.fricrom, "bounds", case, "--freq", f"{args.freq:.10g}", "--json",
                    "--out", os.path.join(folder, "bounds")]
+            if args.harmonics is not None:
+                cmd += ["--harmonics", str(args.harmonics)]
             run = subprocess.run(cmd, capture_output=True, text=True)
             record["bounds_s"] = time.monotonic() - t1
             try:
@@ -214,6 +224,7 @@ def parse(argv):
     p.add_argument("--out", default=os.path.join(ROOT, "results", "geometry_noa"))
     p.add_argument("--fricrom", default=os.path.join(ROOT, "build", "fricrom"))
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
+    p.add_argument("--harmonics", type=int, default=None, help="harmonics H (default: the case's)")
     args = p.parse_args(argv)
     if not (math.isfinite(args.lo) and math.isfinite(args.hi) and args.lo < args.hi):
         p.error(f"--from {args.lo} --to {args.hi}: want finite values with from < to")

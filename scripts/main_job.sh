@@ -91,8 +91,8 @@ $PY scripts/make_report.py --out "$OUT/report.md" --modes "$OUT/modes.json" --bo
 # The FE cascade study beside its lumped calibration (about 75 s here on 2 cores): modes, the
 # bound curve below the resonance with the contact-state map at its peak, the certification of
 # the bounds at 1040 Hz by 200 random-alpha solutions, R over gamma (a sweep of both models) and
-# the NOA over gamma on the FE model at 1040 Hz. The family's peaks (1090-1105 Hz) are ~5 Hz wide
-# at this damping: docs/lumped-vs-fe.md has a curve through them (11 points, ~110 s).
+# the NOA over gamma on the FE model at 1040 Hz. The curve through the family's peaks
+# (1090-1105 Hz) costs minutes: docs/lumped-vs-fe.md has it (50 points, ~8 min).
 FE_CASE=meshes/cascade3/coarse.toml
 FE_OUT=results/cascade3
 FE_RANGE=(--range 960 1040 --points 5)

@@ -65,8 +65,8 @@ def verify_section(d):
     if runs:
         out += ["", "Time integrations of the reduced cascade (implicit modal scheme, from static states set "
                 "by alpha: 0, the two alternating corners; amplitude = Hann-windowed first harmonic; free "
-                "vibration = spread of the one-period amplitudes over the last window, left by the nearly "
-                "undamped full-stick modes):", "",
+                "vibration = spread of the one-period amplitudes over the last window, relative to the "
+                "amplitude: what the start left of the full-stick modes' free decay):", "",
                 "![verify](figures/verify.png)", "",
                 "| run | status | amplitude [m] | HBM refined from its state [m] | inside | periods | "
                 "free vibration | modes | wall [s] |",

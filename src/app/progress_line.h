@@ -14,8 +14,14 @@ struct Progress {
   std::string label;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
   bool terminal = IsTerminal();
-  // Time of the last line written off a terminal (shared: copies of this object report together).
-  std::shared_ptr<double> last_line_s = std::make_shared<double>(0.0);
+  // Shared by copies of this object, which report together (the callers serialise the calls).
+  struct State {
+    double last_line_s = 0.0;  // last line written off a terminal
+    double last_call_s = 0.0;  // last report, printed or not
+    std::string stage;         // the stage reported last
+    double stage_t0_s = 0.0;   // when it began: the previous stage's last report
+  };
+  std::shared_ptr<State> state = std::make_shared<State>();
   static bool IsTerminal();
   void operator()(int done, int total) const { (*this)("", done, total); }
   void operator()(const std::string& stage, int done, int total) const;

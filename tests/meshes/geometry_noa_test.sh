@@ -55,4 +55,19 @@ assert j["evaluations"] == 4 and j["rejected"] == 4, j
 assert all("invalid geometry" in d["message"] and "inconsistent" in d["message"] for d in j["designs"])
 assert all(d["R"] is None for d in j["designs"])
 PY
+
+# (4) a rerun into the same OUT reuses a design only if it was computed for the same inputs
+# (frequency, harmonics, case): the same command reuses all four, another --freq none.
+reuse() {  # FREQ EXPECTED_REUSED
+  "$py" "$root/scripts/geometry_noa.py" --from 2 --to 6 --freq "$1" --max-evals 4 --out "$tmp/bad" \
+    --fricrom "$fricrom" --quiet > /dev/null 2>&1 && fail "rerun at $1 Hz: exit 0 on invalid designs"
+  "$py" - "$tmp/bad/geometry_noa.json" "$2" <<'PY' || fail "rerun at $1 Hz: wrong reuse"
+import json, sys
+j = json.load(open(sys.argv[1]))
+reused = sum(1 for d in j["designs"] if d["reused"])
+assert reused == int(sys.argv[2]), (reused, j["designs"])
+PY
+}
+reuse 1000 4
+reuse 1040 0
 echo "geometry_noa_test: passed"
