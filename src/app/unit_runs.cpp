@@ -1,5 +1,6 @@
 #include "app/unit_runs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -167,7 +168,13 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
   }
   if (two_passes) {
     if (ranks) share(every);
-    run_pass(n, every, second, "neighbour starts");
+    // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long), so
+    // that no worker starts a long point while the others run out of work. The curve does not
+    // depend on the order.
+    std::vector<int> dearest_first = every;
+    std::stable_sort(dearest_first.begin(), dearest_first.end(),
+                     [&](int a, int b) { return pass1[a].wall_s > pass1[b].wall_s; });
+    run_pass(n, dearest_first, second, "neighbour starts");
     run.points.resize(n);
     for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
   } else {
