@@ -171,9 +171,13 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long), so
     // that no worker starts a long point while the others run out of work. The curve does not
     // depend on the order.
+    // (A time read back as null from a journal is NaN: it sorts last, keeping the order strict.)
+    const auto cost = [&](int i) {
+      return std::isfinite(pass1[i].wall_s) ? pass1[i].wall_s : -1.0;
+    };
     std::vector<int> dearest_first = every;
     std::stable_sort(dearest_first.begin(), dearest_first.end(),
-                     [&](int a, int b) { return pass1[a].wall_s > pass1[b].wall_s; });
+                     [&](int a, int b) { return cost(a) > cost(b); });
     run_pass(n, dearest_first, second, "neighbour starts");
     run.points.resize(n);
     for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
