@@ -30,6 +30,9 @@ ParameterOverride ParseOverride(const std::string& text);
 
 struct AnalysisSettings {
   int harmonics = 1;
+  // Bounds: 0 searches at `harmonics`; 1 searches at H = 1 and refines the optima at
+  // `harmonics` (BoundsOptions::search_harmonics).
+  int search_harmonics = 0;
   int samples_per_period = 128;
   double freq_min_hz = 0.0;
   double freq_max_hz = 0.0;

@@ -90,11 +90,13 @@ int DesignCommands::State::RunBounds() {
       for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
       j["points"] = pts;
     }
-    // Pass 1 at the anchors, a continuation per chain between them, pass 2 at every point.
+    // Pass 1 at the anchors, a continuation per chain between them, pass 2 at every point, and
+    // on the harmonic ladder the refinement of every point.
     const int n = static_cast<int>(freqs.size());
     const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
     const int units = static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
-                      (co.warm_start && n > 1 ? n : 0);
+                      (co.warm_start && n > 1 ? n : 0) +
+                      (UsesHarmonicLadder(system, co.bounds) ? n : 0);
     j["units"] = {{"total", units},
                   {"computed", run.computed},
                   {"resumed", run.resumed},

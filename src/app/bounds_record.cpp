@@ -123,6 +123,8 @@ json BoundsRecord(const BoundsResult& b) {
           {"samples_checked", b.samples_checked},
           {"samples_failed", b.samples_failed},
           {"improved_by_samples", b.improved_by_samples},
+          {"search_harmonics", b.search_harmonics},
+          {"refinement_fallbacks", b.refinement_fallbacks},
           {"wall_s", b.wall_s}};
 }
 
@@ -148,6 +150,8 @@ BoundsResult BoundsFromRecord(const json& j) {
   b.samples_checked = ReadInt(j, "samples_checked");
   b.samples_failed = ReadInt(j, "samples_failed");
   b.improved_by_samples = ReadInt(j, "improved_by_samples");
+  b.search_harmonics = ReadInt(j, "search_harmonics");
+  b.refinement_fallbacks = ReadInt(j, "refinement_fallbacks");
   b.wall_s = ReadReal(j, "wall_s");
   return b;
 }

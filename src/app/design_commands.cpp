@@ -76,6 +76,11 @@ void DesignCommands::Register(CLI::App& app) {
     cmd->add_option("--check-samples", s.check_samples,
                     "Random alpha solves that check (and improve) each bound; 0: no check")
         ->check(CLI::Range(0, 1000000));
+    cmd->add_option("--search-harmonics", s.search_harmonics,
+                    "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
+                    "optimum at H, 0 searches at H (default: the case's "
+                    "analysis.search_harmonics)")
+        ->check(CLI::Range(0, 1));
     cmd->add_option("--out", s.out, "Output directory (default results/<case>/<command>)");
     cmd->add_flag("--json", s.as_json, "Print one JSON object on stdout");
     cmd->add_flag("--quiet", s.quiet, "Print nothing but errors");

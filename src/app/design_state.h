@@ -42,6 +42,7 @@ struct DesignCommands::State {
   // shared options
   std::string seeds, out, objective = "amplitude", method = "reduced";
   int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
+  int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
@@ -71,6 +72,7 @@ struct DesignCommands::State {
     if (!FromString(method, &o.method))
       throw CLI::ValidationError("--method", "unknown: " + method);
     o.check_samples = check_samples;
+    o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
   std::filesystem::path OutDir(const Case& c, const std::string& sub) const {
@@ -99,6 +101,7 @@ struct DesignCommands::State {
               {"objective", objective},
               {"method", method},
               {"check_samples", check_samples},
+              {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
               {"interface_seeds", interface_seeds}};
     j.update(extra);

@@ -95,6 +95,8 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["samples_checked"] = b.samples_checked;
   j["samples_failed"] = b.samples_failed;
   j["improved_by_samples"] = b.improved_by_samples;
+  j["search_harmonics"] = b.search_harmonics;
+  j["refinement_fallbacks"] = b.refinement_fallbacks;
   return j;
 }
 

@@ -78,10 +78,19 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
   std::vector<int> chain_ids(chains.size());
   std::iota(chain_ids.begin(), chain_ids.end(), 0);
   BalancePool pool(system, make_balance);
+  // On the harmonic ladder the passes run at H = 1 (`search`) and a last stage refines each
+  // point at H from its H = 1 optima (BoundCurveOptions, design.h).
+  const bool ladder = UsesHarmonicLadder(system, options.bounds);
+  BoundsOptions search = options.bounds;
+  search.search_harmonics = 0;
+  const auto at_search = [&](const BalancePool::Lease& lease) -> const HarmonicBalance& {
+    return SearchBalance(lease.get(), options.bounds);
+  };
   std::vector<BoundsResult> pass1(n);  // read back from records on every rank before pass 2
+  std::vector<BoundsResult> pass2;     // the same before the refinement (ladder)
   const std::function<std::string(int)> first = [&](int i) {
     const BalancePool::Lease lease = pool.Borrow();
-    return BoundsRecord(ComputeBounds(lease.get(), freqs[i], options.bounds)).dump();
+    return BoundsRecord(ComputeBounds(at_search(lease), freqs[i], search)).dump();
   };
   const std::function<std::string(int)> chain = [&](int c) {
     std::vector<double> f;
@@ -89,41 +98,51 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     const BalancePool::Lease lease = pool.Borrow();
     json records = json::array();
     for (const BoundsResult& r :
-         ContinueBounds(lease.get(), pass1[chains[c].from], f, options.bounds)) {
+         ContinueBounds(at_search(lease), pass1[chains[c].from], f, search)) {
       records.push_back(BoundsRecord(r));
     }
     return records.dump();
   };
   const std::function<std::string(int)> second = [&](int i) {
     const BalancePool::Lease lease = pool.Borrow();
-    return BoundsRecord(RefineFromNeighbours(lease.get(), pass1, i, options.bounds)).dump();
+    return BoundsRecord(RefineFromNeighbours(at_search(lease), pass1, i, search)).dump();
   };
-  // Every rank holds the points `ids` of pass 1 before the next stage (root broadcasts them).
-  const auto share = [&](const std::vector<int>& ids) {
+  const std::function<std::string(int)> refine = [&](int i) {
+    const BalancePool::Lease lease = pool.Borrow();
+    return BoundsRecord(RefineBoundsAtHarmonics(lease.get(), pass2[i], options.bounds)).dump();
+  };
+  // Every rank holds the points `ids` of `stage` before the next stage (root broadcasts them).
+  const auto share = [&](const std::vector<int>& ids, std::vector<BoundsResult>* stage) {
     json all = json::array();
     if (MpiRank() == 0) {
-      for (int i : ids) all.push_back(BoundsRecord(pass1[i]));
+      for (int i : ids) all.push_back(BoundsRecord((*stage)[i]));
     }
     all = json::parse(BroadcastText(all.dump()));
-    for (size_t k = 0; k < ids.size(); ++k) pass1[ids[k]] = BoundsFromRecord(all.at(k));
+    for (size_t k = 0; k < ids.size(); ++k) (*stage)[ids[k]] = BoundsFromRecord(all.at(k));
   };
   std::vector<int> every(n);
   std::iota(every.begin(), every.end(), 0);
   if (ranks && MpiRank() != 0) {  // a worker rank: units in, records out
     DistributeUnits({}, first, {});
     if (!chains.empty()) {
-      share(anchors);
+      share(anchors, &pass1);
       DistributeUnits({}, chain, {});
     }
     if (two_passes) {
-      share(every);
+      share(every, &pass1);
       DistributeUnits({}, second, {});
+    }
+    if (ladder) {
+      pass2.resize(n);
+      share(every, &pass2);
+      DistributeUnits({}, refine, {});
     }
     run.worker = true;
     return run;
   }
   RunJournal journal(dir, "bounds", header, resume);
-  // Journal keys: pass 1 at i, pass 2 at n + i, chain c at 2n + c.
+  // Journal keys: pass 1 at i, pass 2 at n + i, chain c at 2n + c, the ladder's refinement at
+  // 2n + chains + i.
   const auto run_pass = [&](int offset, const std::vector<int>& ids,
                             const std::function<std::string(int)>& unit, const std::string& stage) {
     std::vector<int> pending;
@@ -156,7 +175,7 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
   run_pass(0, anchors, first, "frequencies");
   for (int i : anchors) pass1[i] = BoundsFromRecord(journal.finished().at(i));
   if (!chains.empty()) {
-    if (ranks) share(anchors);
+    if (ranks) share(anchors, &pass1);
     run_pass(2 * n, chain_ids, chain, "continuations");
     std::vector<std::vector<BoundsResult>> results(chains.size());
     for (size_t c = 0; c < chains.size(); ++c) {
@@ -164,10 +183,10 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
         results[c].push_back(BoundsFromRecord(r));
       }
     }
-    MergeChains(chains, results, options.bounds.objective, &pass1);
+    MergeChains(chains, results, search.objective, &pass1);
   }
   if (two_passes) {
-    if (ranks) share(every);
+    if (ranks) share(every, &pass1);
     // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long), so
     // that no worker starts a long point while the others run out of work. The curve does not
     // depend on the order.
@@ -183,6 +202,22 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
   } else {
     run.points = pass1;
+  }
+  if (ladder) {
+    pass2 = run.points;
+    if (ranks) share(every, &pass2);
+    const int offset = 2 * n + static_cast<int>(chains.size());
+    // Dearest first again, by the H = 1 passes' time (the order changes nothing in the result).
+    std::vector<int> dearest_first = every;
+    std::stable_sort(dearest_first.begin(), dearest_first.end(), [&](int a, int b) {
+      const double ta = std::isfinite(pass2[a].wall_s) ? pass2[a].wall_s : -1.0;
+      const double tb = std::isfinite(pass2[b].wall_s) ? pass2[b].wall_s : -1.0;
+      return ta > tb;
+    });
+    run_pass(offset, dearest_first, refine, "harmonic refinement");
+    for (int i = 0; i < n; ++i) {
+      run.points[i] = BoundsFromRecord(journal.finished().at(offset + i));
+    }
   }
   write_files(run);
   journal.Complete();

@@ -94,6 +94,11 @@ bool BoundsOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (search_harmonics != 0 && search_harmonics != 1) {
+    *error = "BoundsOptions.search_harmonics must be 0 (the system's H) or 1, got " +
+             std::to_string(search_harmonics);
+    return false;
+  }
   if (check_samples < 0) {
     *error = "BoundsOptions.check_samples must be >= 0, got " + std::to_string(check_samples);
     return false;
@@ -248,6 +253,10 @@ std::string BoundsResult::BriefReport() const {
      << "seeds: min " << spread_min << ", max " << spread_max
      << "; sample check: " << samples_checked << " samples (" << samples_failed << " failed), "
      << improved_by_samples << " bounds improved";
+  if (search_harmonics == 1) {
+    os << "; searched at H = 1, refined at the system's H (" << refinement_fallbacks
+       << " bounds searched again at H)";
+  }
   return os.str();
 }
 
@@ -491,6 +500,7 @@ void MergeBounds(const BoundsResult& other, BoundsOptions::Objective objective,
   into->samples_checked += other.samples_checked;
   into->samples_failed += other.samples_failed;
   into->improved_by_samples += other.improved_by_samples;
+  into->refinement_fallbacks += other.refinement_fallbacks;
   into->wall_s += other.wall_s;
 }
 

@@ -170,13 +170,18 @@ BoundCurve ComputeBoundCurve(
   std::vector<int> all(n);
   for (int i = 0; i < n; ++i) all[i] = i;
   const auto& progress = options.progress;
+  // On the harmonic ladder every stage below runs at H = 1 and a last one refines each point at
+  // H from its H = 1 optima.
+  const bool ladder = UsesHarmonicLadder(system, options.bounds);
+  BoundsOptions search = options.bounds;
+  search.search_harmonics = 0;
   std::vector<BoundsResult> pass1(n);
   const std::vector<int> anchors = CurveAnchors(n, options.anchor_every);
   int done = 0;
   RunWorkUnits(
       anchors, threads,
       [&](int i) {
-        BoundsOptions bo = options.bounds;
+        BoundsOptions bo = search;
         if (progress && threads == 1) {  // a point's own stages only when they come in order
           std::ostringstream label;
           label << freqs_hz[i] << " Hz: ";
@@ -186,7 +191,7 @@ BoundCurve ComputeBoundCurve(
           };
         }
         const BalancePool::Lease lease = pool.Borrow();
-        pass1[i] = ComputeBounds(lease.get(), freqs_hz[i], bo);
+        pass1[i] = ComputeBounds(SearchBalance(lease.get(), options.bounds), freqs_hz[i], bo);
       },
       [&](int) {
         if (progress) progress("frequencies", ++done, static_cast<int>(anchors.size()));
@@ -203,12 +208,13 @@ BoundCurve ComputeBoundCurve(
           std::vector<double> f;
           for (int i : chains[c].points) f.push_back(freqs_hz[i]);
           const BalancePool::Lease lease = pool.Borrow();
-          chain_results[c] = ContinueBounds(lease.get(), pass1[chains[c].from], f, options.bounds);
+          chain_results[c] = ContinueBounds(SearchBalance(lease.get(), options.bounds),
+                                            pass1[chains[c].from], f, search);
         },
         [&](int) {
           if (progress) progress("continuations", ++done, static_cast<int>(ids.size()));
         });
-    MergeChains(chains, chain_results, options.bounds.objective, &pass1);
+    MergeChains(chains, chain_results, search.objective, &pass1);
   }
   std::vector<BoundsResult> points = pass1;
   if (options.warm_start && n > 1) {
@@ -217,10 +223,23 @@ BoundCurve ComputeBoundCurve(
         all, threads,
         [&](int i) {
           const BalancePool::Lease lease = pool.Borrow();
-          points[i] = RefineFromNeighbours(lease.get(), pass1, i, options.bounds);
+          points[i] =
+              RefineFromNeighbours(SearchBalance(lease.get(), options.bounds), pass1, i, search);
         },
         [&](int) {
           if (progress) progress("neighbour starts", ++done, n);
+        });
+  }
+  if (ladder) {
+    done = 0;
+    RunWorkUnits(
+        all, threads,
+        [&](int i) {
+          const BalancePool::Lease lease = pool.Borrow();
+          points[i] = RefineBoundsAtHarmonics(lease.get(), points[i], options.bounds);
+        },
+        [&](int) {
+          if (progress) progress("harmonic refinement", ++done, n);
         });
   }
   BoundCurve curve = AssembleBoundCurve(std::move(points));

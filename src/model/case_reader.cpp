@@ -42,7 +42,7 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
   const std::string w = "analysis";
   rd.CheckKeys(t, w,
                {"harmonics", "samples_per_period", "freq_min_hz", "freq_max_hz", "alpha", "balance",
-                "receptance"});
+                "receptance", "search_harmonics"});
   AnalysisSettings& a = *out;
   a.balance = default_balance;
   const double h = rd.Number(t, w, "harmonics");
@@ -57,6 +57,16 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                   std::to_string(a.harmonics) + " (raise harmonics or remove the load)",
               loads[i].as_table()->get("harmonic"));
     }
+  }
+  if (t.get("search_harmonics")) {
+    const double sh = rd.Number(t, w, "search_harmonics");
+    if (sh != 0 && sh != 1) {
+      rd.Fail(w + ".search_harmonics",
+              "expected 0 (the bounds' search at analysis.harmonics) or 1 (search at H = 1, "
+              "optima refined at analysis.harmonics)",
+              t.get("search_harmonics"));
+    }
+    a.search_harmonics = static_cast<int>(sh);
   }
   const double ns = rd.Number(t, w, "samples_per_period");
   if (ns != std::floor(ns) || ns <= 2 * h || ns < 4 || ns > 1 << 20) {
@@ -104,7 +114,8 @@ void ParseAnalysis(const Reader& rd, const toml::table& root, const toml::array&
                                              {"freq_max_hz", a.freq_max_hz},
                                              {"alpha", std::move(ra)},
                                              {"balance", ToString(a.balance)},
-                                             {"receptance", ToString(a.receptance)}});
+                                             {"receptance", ToString(a.receptance)},
+                                             {"search_harmonics", a.search_harmonics}});
 }
 
 void FinishCase(const toml::table& resolved, Case* cs) {

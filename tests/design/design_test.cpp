@@ -255,6 +255,41 @@ TEST(Design, BoundCurveIsTheSameOnTwoThreadsAndPointByPoint) {
   EXPECT_THROW(RefineFromNeighbours(sys, pass1, 6, bo), std::invalid_argument);
 }
 
+// The harmonic ladder on a curve: the H = 1 curve (both passes) refined point by point at H = 3,
+// on two threads as on one, and within 1 % in R of the direct H = 3 curve (the independent
+// route) where the bounds differ from H = 1's.
+TEST(Design, LadderCurveIsTheFirstHarmonicCurveRefinedAtH3) {
+  const Model model = testing::LoadBaseline().model;
+  HbmSystem h1(model, HbmOptions{1, 128});
+  HbmSystem h3(model, HbmOptions{3, 128});
+  const std::vector<double> freqs = EvenFrequencies(262.0, 270.0, 5);
+  BoundCurveOptions o;
+  o.bounds.check_samples = 4;
+  const BoundCurve low = ComputeBoundCurve(h1, freqs, o);
+  const BoundCurve direct = ComputeBoundCurve(h3, freqs, o);
+  o.bounds.search_harmonics = 1;
+  const BoundCurve one = ComputeBoundCurve(h3, freqs, o);
+  o.threads = 2;
+  const BoundCurve two = ComputeBoundCurve(h3, freqs, o, [&] {
+    return std::make_unique<HbmSystem>(model, HbmOptions{3, 128});
+  });
+  for (int i = 0; i < 5; ++i) {
+    const BoundsResult by_hand = RefineBoundsAtHarmonics(h3, low.points[i], o.bounds);
+    for (const BoundCurve* c : {&one, &two}) {
+      const BoundsResult& p = c->points[i];
+      ASSERT_TRUE(p.IsUsable()) << p.BriefReport();
+      EXPECT_EQ(p.search_harmonics, 1);
+      EXPECT_EQ(p.min.amplitude, by_hand.min.amplitude) << i;
+      EXPECT_EQ(p.max.amplitude, by_hand.max.amplitude) << i;
+      EXPECT_EQ(p.min.x.size(), h3.num_unknowns());
+    }
+    EXPECT_NEAR(one.points[i].robustness(), direct.points[i].robustness(),
+                1e-2 * direct.points[i].robustness())
+        << freqs[i];
+  }
+  EXPECT_EQ(one.peak, direct.peak);
+}
+
 TEST(Design, CurveAnchorsAndChainsCoverEveryPointOnce) {
   EXPECT_EQ(CurveAnchors(10, 3), (std::vector<int>{0, 3, 6, 9}));
   EXPECT_EQ(CurveAnchors(10, 4), (std::vector<int>{0, 4, 8, 9}));
