@@ -72,6 +72,26 @@ u = json.load(open(sys.argv[1]))["units"]
 assert u["total"] == u["computed"] == anchors + chains + n, (u, anchors, chains)
 PY
 
+# The harmonic ladder (H = 3 searched at H = 1): a refinement stage after pass 2, the same files
+# on 2 threads and 2 ranks as serially, every point refined (search_harmonics 1) and counted.
+lad=(bounds "$root/meshes/lumped3/baseline.toml" --range 262 270 --points 9 --check-samples 16
+     --harmonics 3 --search-harmonics 1 --json --quiet)
+"$fricrom" "${lad[@]}" --threads 1 --out "$tmp/l1" > "$tmp/l1.json"
+"$fricrom" "${lad[@]}" --threads 2 --out "$tmp/l2" > "$tmp/l2.json"
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${lad[@]}" --out "$tmp/lm" \
+  > "$tmp/lm.json" || fail "mpirun -np 2 bounds --search-harmonics 1 failed"
+compare "$tmp/l1" "$tmp/l2"
+compare "$tmp/l1" "$tmp/lm"
+"$py" - "$tmp/l1.json" "$tmp/lm.json" <<'PY' || fail "the ladder curve's counts are wrong"
+import json, sys
+for name in sys.argv[1:]:
+    j = json.load(open(name))
+    u = j["units"]
+    assert u["total"] == u["computed"] == 3 * 9, u
+    assert all(p["search_harmonics"] == 1 and p["refinement_fallbacks"] == 0 for p in j["points"])
+    assert j["status"] == "converged", j["status"]
+PY
+
 # Kill at a random moment after the journal appears, then resume on 2 threads.
 "$fricrom" "${curve[@]}" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
 pid=$!
