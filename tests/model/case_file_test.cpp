@@ -308,6 +308,19 @@ TEST(CaseFileErrors, AlphaOutOfRange) {
   ExpectContains(ErrorOf(text), {"test.toml", "analysis.alpha[1]", "[-1, 1]"});
 }
 
+TEST(CaseFileErrors, SearchHarmonicsOtherThanZeroOrOne) {
+  for (const char* bad : {"2", "0.5", "-1", "\"ladder\""}) {
+    const std::string text =
+        Replace(BaselineText(), "alpha = [0.0, 0.0, 0.0, 0.0]",
+                std::string("alpha = [0.0, 0.0, 0.0, 0.0]\nsearch_harmonics = ") + bad);
+    ExpectContains(ErrorOf(text), {"test.toml", "analysis.search_harmonics"});
+  }
+  const std::string ok = Replace(BaselineText(), "alpha = [0.0, 0.0, 0.0, 0.0]",
+                                 "alpha = [0.0, 0.0, 0.0, 0.0]\nsearch_harmonics = 1");
+  EXPECT_EQ(ParseCase(ok, "test.toml", {}).analysis.search_harmonics, 1);
+  EXPECT_EQ(ParseCase(BaselineText(), "test.toml", {}).analysis.search_harmonics, 0);
+}
+
 TEST(CaseFileErrors, WrongSchema) {
   const std::string text =
       Replace(BaselineText(), "schema = \"fricrom-case-1\"", "schema = \"fricrom-case-9\"");

@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""Two bound curves of one case side by side, e.g. H = 1 and H = 3 on the harmonic ladder.
+
+Usage:
+    /usr/bin/python3 scripts/plot_ladder_curve.py A/bounds.h5 LABEL_A B/bounds.h5 LABEL_B OUT.png
+        [--json OUT.json]
+
+Reads /bounds/{freq_hz, y_min_m, y_max_m} of two `fricrom bounds CASE --points N` runs over the
+same frequencies and draws y_min and y_max [m] of both over frequency (log scale, the peak of each
+marked) and R = 1 − (y_max − y_min)/y_max below; with --json writes the points (SI units).
+Failed bounds are NaN in the files and gaps in the figure. Exit status 2 on files that do not
+hold curves over the same frequencies.
+"""
+
+import json
+import sys
+
+sys.dont_write_bytecode = True
+import fricrom_plot_common as common  # noqa: E402
+from fricrom_plot_common import np, plt  # noqa: E402
+
+COLORS = ("#999999", "#1f4e9c")
+
+
+def number_or_null(v):
+    """A failed value is null in the JSON, never a number."""
+    return float(v) if np.isfinite(v) else None
+
+
+def read_curve(path):
+    with common.open_h5(path) as h5:
+        f = common.dataset(h5, "bounds/freq_hz")
+        lo = common.dataset(h5, "bounds/y_min_m")
+        hi = common.dataset(h5, "bounds/y_max_m")
+        common.same_length(h5, "bounds", ["freq_hz", "y_min_m", "y_max_m"], [f, lo, hi])
+    return np.asarray(f, float), np.asarray(lo, float), np.asarray(hi, float)
+
+
+def work():
+    args = [a for a in sys.argv[1:]]
+    out_json = None
+    if "--json" in args:
+        k = args.index("--json")
+        if k + 1 >= len(args):
+            raise common.InputError("--json needs a file name")
+        out_json = args[k + 1]
+        del args[k:k + 2]
+    if len(args) != 5:
+        raise common.InputError(
+            "usage: plot_ladder_curve.py A.h5 LABEL_A B.h5 LABEL_B OUT.png [--json OUT.json]")
+    (path_a, label_a, path_b, label_b, out) = args
+    common.check_output(out)
+    curves = [(label_a, *read_curve(path_a)), (label_b, *read_curve(path_b))]
+    f = curves[0][1]
+    if curves[1][1].shape != f.shape or not np.allclose(curves[1][1], f, rtol=1e-12):
+        raise common.InputError(f"{path_a} and {path_b} are not curves over the same frequencies")
+    fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
+                                  gridspec_kw={"height_ratios": [2.2, 1]})
+    series = {}
+    for (name, _, lo, hi), color in zip(curves, COLORS):
+        r = 1 - (hi - lo) / hi
+        series[name] = {"y_min_m": [number_or_null(v) for v in lo],
+                        "y_max_m": [number_or_null(v) for v in hi],
+                        "R": [number_or_null(v) for v in r]}
+        ax.semilogy(f, hi, "-", color=color, lw=1.6, label=f"y_max, {name}")
+        ax.semilogy(f, lo, "--", color=color, lw=1.2, label=f"y_min, {name}")
+        ax.fill_between(f, lo, hi, color=color, alpha=0.12)
+        if np.any(np.isfinite(hi)):
+            p = int(np.nanargmax(hi))
+            ax.plot(f[p], hi[p], "o", color=color, ms=5)
+            ax.annotate(f"{f[p]:.2f} Hz, {hi[p]:.4e} m", (f[p], hi[p]), fontsize=7, color=color,
+                        textcoords="offset points", xytext=(8, 8 if color == COLORS[1] else -12))
+        axr.plot(f, r, "o-", color=color, ms=3, lw=1, label=name)
+    ax.set_ylabel("response amplitude, blade 2 [m]")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    axr.set_ylabel("R = 1 − δ/y_max")
+    axr.set_xlabel("frequency [Hz]")
+    axr.set_ylim(-0.05, 1.05)
+    axr.grid(True, lw=0.3)
+    axr.legend(fontsize=7)
+    fig.suptitle(f"Bound curves: {label_a} and {label_b}", fontsize=10)
+    fig.tight_layout()
+    common.save_figure(fig, out)
+    if out_json:
+        common.write_text_atomically(out_json, json.dumps(
+            {"units": "SI (Hz, m)", "freq_hz": f.tolist(), "curves": series}, indent=1))
+    return f"wrote {out}"
+
+
+if __name__ == "__main__":
+    sys.exit(common.run("plot_ladder_curve.py", work))
