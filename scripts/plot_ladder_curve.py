@@ -73,7 +73,7 @@ def work():
         axr.plot(f, r, "o-", color=color, ms=3, lw=1, label=name)
     ax.set_ylabel("response amplitude, blade 2 [m]")
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="lower left")
     axr.set_ylabel("R = 1 − δ/y_max")
     axr.set_xlabel("frequency [Hz]")
     axr.set_ylim(-0.05, 1.05)
