@@ -83,7 +83,8 @@ struct BoundsOptions {
   // system has H = 1; an error where the system cannot drop harmonics (loads above H = 1).
   int search_harmonics = 0;
   // Progress inside one bound computation, on the caller's thread: (stage, done, total) with
-  // stage "seeds" (after each seed's min and max runs) and "samples" (after each check sample).
+  // stage "seeds" (after each seed's min and max runs) and "samples" (after each check sample),
+  // on the harmonic ladder then "harmonic refinement" (0 of 1 at its start, 1 at its end).
   std::function<void(const std::string& stage, int done, int total)> progress;
 
   bool IsValid(std::string* error) const;

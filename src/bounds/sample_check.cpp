@@ -238,6 +238,8 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   BoundsOptions at_h = options;
   at_h.progress = nullptr;
   at_h.search_harmonics = 0;
+  // Near a resonance the refinement is most of a bound's time: its stage shows (0 of 1, then 1).
+  if (options.progress) options.progress("harmonic refinement", 0, 1);
   ImproveBounds(system, low.freq_hz, at_h, known, &result);
   // The search's own counts (at H = 1) and the refinement's runs.
   result.seeds_tried += low.seeds_tried;
@@ -262,6 +264,7 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
     b->amplitude = b->loss_factor = std::numeric_limits<double>::quiet_NaN();
   }
   result.search_harmonics = 1;
+  if (options.progress) options.progress("harmonic refinement", 1, 1);
   result.wall_s =
       low.wall_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;

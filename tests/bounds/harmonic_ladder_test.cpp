@@ -4,10 +4,13 @@
 // 266 Hz: 2.0376e-4 m at H = 1, 2.0485e-4 m at H = 3).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "fricrom/bounds.h"
 #include "fricrom/hbm_system.h"
@@ -68,6 +71,25 @@ TEST_P(Ladder, RefinedBoundsMatchTheDirectSearchAtH3) {
 }
 
 INSTANTIATE_TEST_SUITE_P(StickSlipFrequencies, Ladder, ::testing::Values(264.0, 266.0, 268.0));
+
+TEST(Ladder, ProgressShowsTheSearchAndThenTheRefinement) {
+  BoundsOptions o;
+  o.search_harmonics = 1;
+  std::vector<std::string> stages;
+  std::vector<std::pair<int, int>> counts;
+  o.progress = [&](const std::string& stage, int done, int total) {
+    stages.push_back(stage);
+    counts.emplace_back(done, total);
+  };
+  ASSERT_TRUE(ComputeBounds(BaselineAt(3), 266.0, o).IsUsable());
+  ASSERT_GE(stages.size(), 3u);
+  EXPECT_EQ(stages.front(), "seeds");
+  EXPECT_EQ(stages[stages.size() - 2], "harmonic refinement");
+  EXPECT_EQ(stages.back(), "harmonic refinement");
+  EXPECT_EQ(counts[counts.size() - 2], std::make_pair(0, 1));
+  EXPECT_EQ(counts.back(), std::make_pair(1, 1));
+  EXPECT_EQ(std::count(stages.begin(), stages.end(), "samples"), o.check_samples);
+}
 
 TEST(Ladder, ChangesNothingAtH1) {
   BoundsOptions ladder;
