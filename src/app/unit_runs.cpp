@@ -152,6 +152,9 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     const int total = static_cast<int>(ids.size());
     int done = total - static_cast<int>(pending.size());
     run.resumed += done;
+    // The stage's name shows at its start: a curve of one point (bounds --freq) would otherwise
+    // show nothing during a minutes-long refinement.
+    if (options.progress) options.progress(stage, done, total);
     const auto record = [&](int i, const std::string& text) {
       journal.Record(offset + i, json::parse(text));
       ++run.computed;
