@@ -152,6 +152,15 @@ def same_length(h5, group, names, arrays):
                 f"'/{group}/{names[0]}' has {n}")
 
 
+def bound_curve(h5):
+    """/bounds/{freq_hz, y_min_m, y_max_m} of an open bounds.h5, checked for equal lengths."""
+    f = dataset(h5, "bounds/freq_hz")
+    lo = dataset(h5, "bounds/y_min_m")
+    hi = dataset(h5, "bounds/y_max_m")
+    same_length(h5, "bounds", ["freq_hz", "y_min_m", "y_max_m"], [f, lo, hi])
+    return f, lo, hi
+
+
 def full_stick_scale(lin, normalise):
     """Divisor of the response curves: the full-stick peak with --normalise, else 1."""
     if not normalise:

@@ -29,10 +29,7 @@ def number_or_null(v):
 
 def read_curve(path):
     with common.open_h5(path) as h5:
-        f = common.dataset(h5, "bounds/freq_hz")
-        lo = common.dataset(h5, "bounds/y_min_m")
-        hi = common.dataset(h5, "bounds/y_max_m")
-        common.same_length(h5, "bounds", ["freq_hz", "y_min_m", "y_max_m"], [f, lo, hi])
+        f, lo, hi = common.bound_curve(h5)
     return np.asarray(f, float), np.asarray(lo, float), np.asarray(hi, float)
 
 

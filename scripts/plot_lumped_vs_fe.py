@@ -23,10 +23,7 @@ STYLE = {"FE (reduced)": ("#1f4e9c", "#9ecae1"), "lumped": ("#b2182b", "#f4a582"
 
 def read(path):
     with common.open_h5(path) as h5:
-        f = common.dataset(h5, "bounds/freq_hz")
-        lo = common.dataset(h5, "bounds/y_min_m")
-        hi = common.dataset(h5, "bounds/y_max_m")
-        common.same_length(h5, "bounds", ["freq_hz", "y_min_m", "y_max_m"], [f, lo, hi])
+        f, lo, hi = common.bound_curve(h5)
         lf = common.dataset(h5, "linear/freq_hz")
         ls = common.dataset(h5, "linear/stick_amplitude_m")
         common.same_length(h5, "linear", ["freq_hz", "stick_amplitude_m"], [lf, ls])

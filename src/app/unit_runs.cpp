@@ -63,6 +63,22 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
   return run;
 }
 
+namespace {
+
+// The points 0..n-1 dearest first by an earlier stage's wall time (the longest-processing-time
+// rule: no worker starts a long point while the others run out of work; the results do not
+// depend on the order). A time read back as null from a journal is NaN: it sorts last, keeping
+// the order strict.
+std::vector<int> DearestFirst(const std::vector<BoundsResult>& by) {
+  const auto cost = [&](int i) { return std::isfinite(by[i].wall_s) ? by[i].wall_s : -1.0; };
+  std::vector<int> order(by.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost(a) > cost(b); });
+  return order;
+}
+
+}  // namespace
+
 CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::json& header,
                             bool resume, const HarmonicBalance& system,
                             const BalanceMaker& make_balance, const std::vector<double>& freqs,
@@ -193,14 +209,7 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long), so
     // that no worker starts a long point while the others run out of work. The curve does not
     // depend on the order.
-    // (A time read back as null from a journal is NaN: it sorts last, keeping the order strict.)
-    const auto cost = [&](int i) {
-      return std::isfinite(pass1[i].wall_s) ? pass1[i].wall_s : -1.0;
-    };
-    std::vector<int> dearest_first = every;
-    std::stable_sort(dearest_first.begin(), dearest_first.end(),
-                     [&](int a, int b) { return cost(a) > cost(b); });
-    run_pass(n, dearest_first, second, "neighbour starts");
+    run_pass(n, DearestFirst(pass1), second, "neighbour starts");
     run.points.resize(n);
     for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
   } else {
@@ -210,14 +219,8 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
     pass2 = run.points;
     if (ranks) share(every, &pass2);
     const int offset = 2 * n + static_cast<int>(chains.size());
-    // Dearest first again, by the H = 1 passes' time (the order changes nothing in the result).
-    std::vector<int> dearest_first = every;
-    std::stable_sort(dearest_first.begin(), dearest_first.end(), [&](int a, int b) {
-      const double ta = std::isfinite(pass2[a].wall_s) ? pass2[a].wall_s : -1.0;
-      const double tb = std::isfinite(pass2[b].wall_s) ? pass2[b].wall_s : -1.0;
-      return ta > tb;
-    });
-    run_pass(offset, dearest_first, refine, "harmonic refinement");
+    // Dearest first again, by the H = 1 passes' time.
+    run_pass(offset, DearestFirst(pass2), refine, "harmonic refinement");
     for (int i = 0; i < n; ++i) {
       run.points[i] = BoundsFromRecord(journal.finished().at(offset + i));
     }

@@ -126,6 +126,17 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
   return c;
 }
 
+// The optimiser counts of `from` added to `into` (a restart's, or the ladder's H = 1 search).
+void AddRunCounts(const BoundsResult& from, BoundsResult* into) {
+  into->seeds_tried += from.seeds_tried;
+  into->seeds_converged += from.seeds_converged;
+  into->start_failures += from.start_failures;
+  into->min_failures += from.min_failures;
+  into->max_failures += from.max_failures;
+  into->optimizer_runs += from.optimizer_runs;
+  into->runs_abandoned += from.runs_abandoned;
+}
+
 }  // namespace
 
 namespace {
@@ -152,13 +163,7 @@ BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
   if (c.have_low) restart.push_back(c.alpha_low);
   if (c.have_high) restart.push_back(c.alpha_high);
   const BoundsResult again = OptimiseBounds(system, freq_hz, options, restart);
-  result.seeds_tried += again.seeds_tried;
-  result.seeds_converged += again.seeds_converged;
-  result.start_failures += again.start_failures;
-  result.min_failures += again.min_failures;
-  result.max_failures += again.max_failures;
-  result.optimizer_runs += again.optimizer_runs;
-  result.runs_abandoned += again.runs_abandoned;
+  AddRunCounts(again, &result);
   // Each bound: the best of the first optimisation, the restart and the sample itself.
   auto improve = [&](bool is_max, bool have_sample, const FrfPoint& sample,
                      const Eigen::VectorXd& alpha, const BoundSolution& restarted) {
@@ -242,14 +247,8 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   if (options.progress) options.progress("harmonic refinement", 0, 1);
   ImproveBounds(system, low.freq_hz, at_h, known, &result);
   // The search's own counts (at H = 1) and the refinement's runs.
-  result.seeds_tried += low.seeds_tried;
+  AddRunCounts(low, &result);
   result.seed_counts = low.seed_counts;
-  result.seeds_converged += low.seeds_converged;
-  result.start_failures += low.start_failures;
-  result.min_failures += low.min_failures;
-  result.max_failures += low.max_failures;
-  result.optimizer_runs += low.optimizer_runs;
-  result.runs_abandoned += low.runs_abandoned;
   result.samples_checked = low.samples_checked;
   result.samples_failed = low.samples_failed;
   result.improved_by_samples = low.improved_by_samples;
