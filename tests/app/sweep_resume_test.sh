@@ -3,7 +3,7 @@
 # files as an uninterrupted run; no value is computed twice (the journal's count plus the
 # resumed run's computed count is the total); no temporary file is left; a second run on a folder
 # another run is writing is refused with exit 2. Also: 1 and 2 threads, and 2 MPI ranks, give the
-# same files as the serial run.
+# same files as the serial run, and so do 4 ranks.
 set -euo pipefail
 fricrom="${1:?usage: sweep_resume_test.sh FRICROM REPO_ROOT}"
 root="${2:?usage: sweep_resume_test.sh FRICROM REPO_ROOT}"
@@ -44,6 +44,13 @@ mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${sweep[@]}" --step
 "$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == int(sys.argv[2]), u' \
   "$tmp/mpi.json" "$steps" || fail "the MPI run did not use 2 ranks"
 compare "$tmp/ref" "$tmp/mpi"
+# Four ranks (three workers, each holding one unit ahead while many remain, and none near the end):
+# every value computed once, the same files.
+mpirun --allow-run-as-root --oversubscribe -np 4 "$fricrom" "${sweep[@]}" --steps "$steps" \
+  --out "$tmp/mpi4" > "$tmp/mpi4.json" || fail "mpirun -np 4 sweep failed"
+"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 4 and u["computed"] == int(sys.argv[2]), u' \
+  "$tmp/mpi4.json" "$steps" || fail "the 4-rank run did not use 4 ranks or computed a value twice"
+compare "$tmp/ref" "$tmp/mpi4"
 # Commands that do not distribute their work refuse to run on several ranks (exit 2).
 set +e
 mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" modes "$root/meshes/lumped3/baseline.toml" \
