@@ -1,5 +1,6 @@
 // The alternating frequency/time (AFT) evaluation of one contact: harmonic coefficients of its
-// relative displacements (u tangential, v normal) -> time samples (FFTW) -> the contact law
+// relative displacements (u tangential, v normal) -> time samples (direct sums for 2H+1 ≤ 15,
+// FFTW beyond) -> the contact law
 // (contact.h) -> harmonic coefficients of T and N, with the exact coefficient-level derivatives.
 // One implementation for the full (HbmSystem) and the condensed (CondensedSystem) balance.
 // Coefficients follow hbm.h: [c0, a1, b1, ..., aH, bH].
@@ -28,8 +29,8 @@ struct AftDerivatives {
   bool any() const { return displacement || alpha; }
 };
 
-// Owns the FFTW plans and scratch of one harmonic/sample setting; Evaluate is not re-entrant
-// (one object per thread).
+// Owns the transforms (FFTW plans) and scratch of one harmonic/sample setting; Evaluate is not
+// re-entrant (one object per thread).
 class AftContactForces {
  public:
   explicit AftContactForces(const HbmOptions& options);  // throws std::invalid_argument

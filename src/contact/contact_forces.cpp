@@ -21,19 +21,50 @@ std::mutex& PlannerMutex() {
 
 }  // namespace
 
+// Up to this many coefficients (H ≤ 7) the transforms are direct sums over the samples: at
+// 2H+1 ≤ 15 they cost fewer operations than FFTW's calls on 64-256 samples and need no copies
+// into its buffers; beyond, FFTW.
+constexpr int kMaxDirectCoefficients = 15;
+
 struct AftContactForces::Plans {
   int n = 0;   // samples
   int nh = 0;  // coefficients 2H+1
+  bool direct = false;
   double* real = nullptr;
   fftw_complex* spec = nullptr;
   fftw_plan forward = nullptr;   // r2c: samples -> spectrum
   fftw_plan backward = nullptr;  // c2r: spectrum -> samples
   Eigen::MatrixXd synthesis;     // N x nh: samples = synthesis * coefficients
-  Eigen::MatrixXd analysis;      // nh x N: coefficients = analysis * samples
+  Eigen::MatrixXd analysis_t;    // N x nh: coefficients = analysis_tᵀ * samples
   Eigen::MatrixXd w_tu, w_tv, w_nv;
   Eigen::VectorXd g;
 
-  Plans(int samples, int harmonics) : n(samples), nh(2 * harmonics + 1) {
+  Plans(int samples, int harmonics)
+      : n(samples), nh(2 * harmonics + 1), direct(nh <= kMaxDirectCoefficients) {
+    if (!direct) MakeFftwPlans();
+    synthesis.resize(n, nh);
+    analysis_t.resize(n, nh);
+    for (int k = 0; k < n; ++k) {
+      const double theta = kTwoPi * k / n;
+      synthesis(k, 0) = 1.0;
+      analysis_t(k, 0) = 1.0 / n;
+      for (int h = 1; h <= harmonics; ++h) {
+        synthesis(k, 2 * h - 1) = std::cos(h * theta);
+        synthesis(k, 2 * h) = std::sin(h * theta);
+        analysis_t(k, 2 * h - 1) = 2.0 / n * std::cos(h * theta);
+        analysis_t(k, 2 * h) = 2.0 / n * std::sin(h * theta);
+      }
+    }
+    w_tu.resize(n, nh);
+    w_tv.resize(n, nh);
+    w_nv.resize(n, nh);
+    g.resize(n);
+  }
+  ~Plans() {
+    std::lock_guard<std::mutex> lock(PlannerMutex());
+    Release();
+  }
+  void MakeFftwPlans() {
     std::lock_guard<std::mutex> lock(PlannerMutex());
     real = fftw_alloc_real(static_cast<size_t>(n));
     spec = fftw_alloc_complex(static_cast<size_t>(n / 2 + 1));
@@ -46,27 +77,6 @@ struct AftContactForces::Plans {
       throw std::runtime_error("AftContactForces: FFTW could not plan a transform of size " +
                                std::to_string(n));
     }
-    synthesis.resize(n, nh);
-    analysis.resize(nh, n);
-    for (int k = 0; k < n; ++k) {
-      const double theta = kTwoPi * k / n;
-      synthesis(k, 0) = 1.0;
-      analysis(0, k) = 1.0 / n;
-      for (int h = 1; h <= harmonics; ++h) {
-        synthesis(k, 2 * h - 1) = std::cos(h * theta);
-        synthesis(k, 2 * h) = std::sin(h * theta);
-        analysis(2 * h - 1, k) = 2.0 / n * std::cos(h * theta);
-        analysis(2 * h, k) = 2.0 / n * std::sin(h * theta);
-      }
-    }
-    w_tu.resize(n, nh);
-    w_tv.resize(n, nh);
-    w_nv.resize(n, nh);
-    g.resize(n);
-  }
-  ~Plans() {
-    std::lock_guard<std::mutex> lock(PlannerMutex());
-    Release();
   }
   void Release() {
     if (forward) fftw_destroy_plan(forward);
@@ -80,6 +90,12 @@ struct AftContactForces::Plans {
 
   // coefficients [c0, a1, b1, ...] -> N samples
   void ToTime(const Eigen::VectorXd& coef, Eigen::VectorXd* samples) {
+    samples->resize(n);
+    if (direct) {
+      samples->setConstant(coef[0]);
+      for (int j = 1; j < nh; ++j) *samples += coef[j] * synthesis.col(j);
+      return;
+    }
     const int half = n / 2 + 1;
     for (int i = 0; i < half; ++i) spec[i][0] = spec[i][1] = 0.0;
     spec[0][0] = coef[0];
@@ -88,18 +104,29 @@ struct AftContactForces::Plans {
       spec[h][1] = -0.5 * coef[2 * h];
     }
     fftw_execute(backward);
-    samples->resize(n);
     for (int k = 0; k < n; ++k) (*samples)[k] = real[k];
   }
   // N samples -> coefficients
   void ToFrequency(const Eigen::VectorXd& samples, Eigen::VectorXd* coef) {
+    coef->resize(nh);
+    if (direct) {
+      for (int j = 0; j < nh; ++j) (*coef)[j] = analysis_t.col(j).dot(samples);
+      return;
+    }
     for (int k = 0; k < n; ++k) real[k] = samples[k];
     fftw_execute(forward);
-    coef->resize(nh);
     (*coef)[0] = spec[0][0] / n;
     for (int h = 1; 2 * h < nh; ++h) {
       (*coef)[2 * h - 1] = 2.0 / n * spec[h][0];
       (*coef)[2 * h] = -2.0 / n * spec[h][1];
+    }
+  }
+  // analysis · w (nh x nh) as nh² dot products over the samples: a general matrix product
+  // spends more on packing these thin operands than on the arithmetic.
+  void Analyse(const Eigen::MatrixXd& w, Eigen::MatrixXd* out) const {
+    out->resize(nh, nh);
+    for (int l = 0; l < nh; ++l) {
+      for (int j = 0; j < nh; ++j) (*out)(j, l) = analysis_t.col(j).dot(w.col(l));
     }
   }
 };
@@ -144,11 +171,11 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
     p.g[k] = d.dalpha;
   }
   if (derivatives.displacement) {
-    out->dt_du.noalias() = p.analysis * p.w_tu;
-    out->dt_dv.noalias() = p.analysis * p.w_tv;
-    out->dn_dv.noalias() = p.analysis * p.w_nv;
+    p.Analyse(p.w_tu, &out->dt_du);
+    p.Analyse(p.w_tv, &out->dt_dv);
+    p.Analyse(p.w_nv, &out->dn_dv);
   }
-  if (derivatives.alpha) out->dt_dalpha.noalias() = p.analysis * p.g;
+  if (derivatives.alpha) out->dt_dalpha.noalias() = p.analysis_t.transpose() * p.g;
 }
 
 }  // namespace fricrom
