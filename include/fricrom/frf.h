@@ -72,6 +72,15 @@ struct FrfTrace {
 FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
                   double f_end_hz, const FrfOptions& options, const FrfProgress& progress = {});
 
+// Solves R(x; ω, α) = 0 from x0, a solution of a nearby problem (the lower-harmonic solution
+// embedded at H, the solution at a neighbouring frequency), where Newton from x0 fails: the
+// residual homotopy R(x) − (1 − λ) R(x0) = 0, which x0 solves at λ = 0, is continued to λ = 1
+// (at most options.fallback_max_points points) and the end polished by Newton. True with *x the
+// solution; *evaluations counts the residual evaluations.
+bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
+                          const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
+                          int* evaluations);
+
 // Adapters that expose a harmonic-balance problem at fixed α to the generic solvers (λ = ω in
 // rad/s).
 class HbmAtFrequency : public SquareSystem {
@@ -86,6 +95,22 @@ class HbmAtFrequency : public SquareSystem {
   const HarmonicBalance& system_;
   double omega_;
   Eigen::VectorXd alpha_;
+};
+
+// R(x; ω, α) − (1 − λ) R(x0; ω, α): the residual homotopy of SolveFromNearbyPoint.
+class ResidualHomotopy : public ParametricSystem {
+ public:
+  ResidualHomotopy(const HarmonicBalance& system, double omega, const Eigen::VectorXd& alpha,
+                   const Eigen::VectorXd& x0);
+  int size() const override;
+  void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
+                Eigen::VectorXd* dr_dlambda) const override;
+  double ResidualScale() const override;
+
+ private:
+  const HarmonicBalance& system_;
+  double omega_;
+  Eigen::VectorXd alpha_, r0_;
 };
 
 // R(x; ω, α0 + λ(α1 − α0)) at fixed ω: the path of the α homotopy.

@@ -100,6 +100,50 @@ void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::Vect
 }
 double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
 
+ResidualHomotopy::ResidualHomotopy(const HarmonicBalance& system, double omega,
+                                   const Eigen::VectorXd& alpha, const Eigen::VectorXd& x0)
+    : system_(system), omega_(omega), alpha_(alpha) {
+  HbmEvaluation e;
+  system_.Evaluate(x0, omega_, alpha_, HbmRequest{false, false, false}, &e);
+  r0_ = std::move(e.residual);
+}
+int ResidualHomotopy::size() const { return system_.num_unknowns(); }
+void ResidualHomotopy::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r,
+                                Eigen::MatrixXd* j, Eigen::VectorXd* dr_dlambda) const {
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = j != nullptr;
+  system_.Evaluate(x, omega_, alpha_, req, &e);
+  *r = std::move(e.residual) - (1.0 - lambda) * r0_;
+  if (j) *j = std::move(e.jacobian);
+  if (dr_dlambda) *dr_dlambda = r0_;
+}
+double ResidualHomotopy::ResidualScale() const { return system_.ResidualScale(); }
+
+bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
+                          const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
+                          int* evaluations) {
+  const ResidualHomotopy path(system, omega, alpha, x0);
+  ContinuationOptions c;
+  c.x_scale = std::max(x0.norm(), 1e-300);
+  c.initial_step = 0.1;
+  c.max_step = 0.5;
+  c.min_step = 1e-8;
+  c.max_points = options.fallback_max_points;
+  c.corrector = options.newton;
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {
+    x_end = cp.x;
+    return true;
+  });
+  *evaluations += cs.evaluations;
+  if (cs.status != ContinuationStatus::kReachedEnd) return false;
+  *x = x_end;
+  const NewtonSummary ns = SolveNewton(HbmAtFrequency(system, omega, alpha), options.newton, x);
+  *evaluations += ns.iterations;
+  return ns.IsSolutionUsable();
+}
+
 namespace {
 
 // Follows the branch at fixed α from (f_from, x_from) to f_to by continuation in frequency and

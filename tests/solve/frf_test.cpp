@@ -166,6 +166,44 @@ TEST(Frf, AlphaHomotopyConvergesWherePlainNewtonFails) {
   EXPECT_EQ(failed, 0) << "plain Newton failed on " << plain_failed << "/60";
 }
 
+// The residual homotopy from a solution of a nearby problem (SolveFromNearbyPoint): the solution
+// 7 Hz below, at α random, γ = 0.3, H = 3 (lumped case). With a Newton budget of 4 iterations
+// plain Newton from the neighbour fails every time and the homotopy, whose correctors need
+// fewer, reaches the solution that Newton finds with its full budget.
+TEST(Frf, ResidualHomotopyFromANeighbouringSolution) {
+  const Case cs = testing::LoadBaseline({{"gamma", 0.3}});
+  HbmSystem sys(cs.model, HbmOptions{3, 128});
+  const double f0 = 262.0, f = 269.0, omega = kTwoPi * f;
+  FrfOptions tight;
+  tight.newton.max_iterations = 4;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 12; ++i) {
+    const Eigen::Vector4d a(u(rng), u(rng), u(rng), u(rng));
+    const FrfPoint near = SolveAtFrequency(sys, a, f0, Eigen::VectorXd(), FrfOptions{});
+    ASSERT_EQ(near.status, SolverStatus::kConverged);
+    // λ = 0 is solved by the neighbour's point; ∂R/∂λ is R(x0), which Newton must remove.
+    const ResidualHomotopy path(sys, omega, a, near.x);
+    Eigen::VectorXd r0, dr;
+    path.Evaluate(near.x, 0.0, &r0, nullptr, &dr);
+    EXPECT_EQ(r0.norm(), 0.0);
+    EXPECT_GT(dr.norm(), 1e-6 * sys.ResidualScale());
+    Eigen::VectorXd x_tight = near.x, x_full = near.x, xh;
+    EXPECT_FALSE(
+        SolveNewton(HbmAtFrequency(sys, omega, a), tight.newton, &x_tight).IsSolutionUsable())
+        << i << ": Newton no longer needs more than 4 iterations: the test lost its point";
+    ASSERT_TRUE(
+        SolveNewton(HbmAtFrequency(sys, omega, a), NewtonOptions{}, &x_full).IsSolutionUsable());
+    int evaluations = 0;
+    ASSERT_TRUE(SolveFromNearbyPoint(sys, a, omega, near.x, tight, &xh, &evaluations)) << i;
+    EXPECT_GT(evaluations, 4);
+    HbmEvaluation e;
+    sys.Evaluate(xh, omega, a, HbmRequest{}, &e);
+    EXPECT_LE(e.residual.norm(), 1e-7 * sys.ResidualScale()) << i;
+    EXPECT_LE((xh - x_full).norm(), 1e-8 * x_full.norm()) << i;
+  }
+}
+
 // Issue 9, defect 9: single-frequency solves use the globalisation of the sweep. At gamma = 0.3,
 // 269 Hz and beta = 0.175, 267 Hz plain Newton (and the alpha homotopy) failed for all 625 alpha
 // of a 5^4 grid; every one must converge now. At mu = 0, 266 Hz the solve must land on the
