@@ -199,6 +199,12 @@ struct KnownSolution {
   // Optimiser runs from it towards the minimum and the maximum response (a minimum's optimum
   // tracked in frequency needs only the first).
   bool run_min = true, run_max = true;
+  // Where neither Newton nor the residual homotopy from x reaches a solution at this frequency:
+  // true, the runs start from a solution at α found by the seeds' cold routes (StartSolution;
+  // minutes per start next to a resonance); false, the known solution is dropped — for one that
+  // matters for its branch (a neighbouring frequency's optimum), which a cold start at its α
+  // need not find.
+  bool cold_start = true;
 };
 
 // Bound runs (both directions) started from known solutions, folded into `bounds` with

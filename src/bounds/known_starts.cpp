@@ -65,11 +65,13 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   for (const KnownSolution& k : known) {
     Eigen::VectorXd x = k.x;
     const Eigen::VectorXd alpha = k.alpha.cwiseMax(-1.0).cwiseMin(1.0);
+    const bool solved =
+        SolveNewton(HbmAtFrequency(system, omega, alpha), NewtonOptions{}, &x).IsSolutionUsable() ||
+        FromNearbyPoint(system, omega, alpha, k.x, &x);
+    if (!solved && !k.cold_start) continue;
     seeds.push_back(alpha);
     directions.push_back((k.run_min ? 1 : 0) | (k.run_max ? 2 : 0));
-    if (!SolveNewton(HbmAtFrequency(system, omega, alpha), NewtonOptions{}, &x)
-             .IsSolutionUsable() &&
-        !FromNearbyPoint(system, omega, alpha, k.x, &x)) {
+    if (!solved) {
       // StartSolution's usual routes only (the same Newton would fail again there).
       xs.emplace_back();
       continue;
@@ -87,6 +89,7 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
       if (Beats(options, s, b, is_max)) b = s;
     }
   }
+  if (seeds.empty()) return 0;  // every known solution dropped (cold_start false)
   BoundsOptions o = options;
   o.seed_groups.clear();
   o.random_seeds = 0;

@@ -54,8 +54,10 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   const int n = static_cast<int>(pass1.size());
   if (i < 0 || i >= n) throw std::invalid_argument("RefineFromNeighbours: no such point");
   const BoundsResult& own = pass1[i];
-  // The neighbours' optima as known solutions: Newton from their x keeps their branch of
-  // periodic solutions (continuation in frequency), where a cold start at their α may not.
+  // The neighbours' optima as known solutions: Newton (or the residual homotopy) from their x
+  // keeps their branch of periodic solutions, where a cold start at their α may not; one that
+  // neither reaches is dropped, not started cold (50-point FE curve: 272 s of cold routes at
+  // 1101.02 Hz in pass 2).
   std::vector<KnownSolution> known;
   for (int j : {i - 1, i + 1}) {
     if (j < 0 || j >= n) continue;
@@ -63,7 +65,7 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
       if (AlreadyTried(*s, own)) continue;
       bool dup = false;
       for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
-      if (!dup) known.push_back({s->x, s->alpha});
+      if (!dup) known.push_back({s->x, s->alpha, true, true, false});
     }
   }
   BoundsResult out = own;

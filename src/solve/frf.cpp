@@ -123,6 +123,7 @@ double ResidualHomotopy::ResidualScale() const { return system_.ResidualScale();
 bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
                           const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
                           int* evaluations) {
+  if (!x0.allFinite()) return false;
   const ResidualHomotopy path(system, omega, alpha, x0);
   ContinuationOptions c;
   c.x_scale = std::max(x0.norm(), 1e-300);

@@ -1,6 +1,7 @@
 // ImproveBounds: bound runs from solutions found by other routes, on the paper's lumped system.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -68,6 +69,25 @@ TEST(ImproveBounds, ASolutionBelowALocalMinimumLowersIt) {
   const BoundsResult full = ComputeBounds(Baseline(), kFreq, BoundsOptions{});
   ASSERT_TRUE(full.IsUsable());
   EXPECT_LE(r.min.amplitude, full.min.amplitude * (1 + 1e-6));
+}
+
+// A known solution that neither Newton nor the residual homotopy can use (its x is not a
+// number): with cold_start its α is solved by the seeds' cold routes and the run from there
+// lowers the weak minimum as above; without, it is dropped and nothing changes.
+TEST(ImproveBounds, AnUnusableKnownSolutionIsStartedColdOrDropped) {
+  double corner = 0.0;
+  KnownSolution k = SmallestCorner(&corner);
+  k.x.setConstant(std::numeric_limits<double>::quiet_NaN());
+  const BoundsResult weak = ComputeBounds(Baseline(), kFreq, Weak());
+  ASSERT_TRUE(weak.IsUsable()) << weak.BriefReport();
+  BoundsResult cold = weak, dropped = weak;
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, Weak(), {k}, &cold), 1);
+  EXPECT_LE(cold.min.amplitude, corner * (1 + 1e-12));
+  k.cold_start = false;
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, Weak(), {k}, &dropped), 0);
+  EXPECT_EQ(dropped.min.amplitude, weak.min.amplitude);
+  EXPECT_EQ(dropped.max.amplitude, weak.max.amplitude);
+  EXPECT_EQ(dropped.optimizer_runs, weak.optimizer_runs);
 }
 
 TEST(ImproveBounds, AStartInsideTheBoundsChangesNothing) {
