@@ -100,6 +100,28 @@ void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::Vect
 }
 double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
 
+namespace {
+
+// Follows `path` from x0 to its λ end and polishes the end by Newton on `at`: true with *x the
+// solution; *evaluations counts both. The tail of every homotopy and continuation fallback here.
+bool ContinueAndPolish(const ParametricSystem& path, const ContinuationOptions& c,
+                       const Eigen::VectorXd& x0, const SquareSystem& at,
+                       const NewtonOptions& newton, Eigen::VectorXd* x, int* evaluations) {
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {
+    x_end = cp.x;
+    return true;
+  });
+  *evaluations += cs.evaluations;
+  if (cs.status != ContinuationStatus::kReachedEnd) return false;
+  *x = x_end;
+  const NewtonSummary ns = SolveNewton(at, newton, x);
+  *evaluations += ns.iterations;
+  return ns.IsSolutionUsable();
+}
+
+}  // namespace
+
 ResidualHomotopy::ResidualHomotopy(const HarmonicBalance& system, double omega,
                                    const Eigen::VectorXd& alpha, const Eigen::VectorXd& x0)
     : system_(system), omega_(omega), alpha_(alpha) {
@@ -132,17 +154,8 @@ bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& 
   c.min_step = 1e-8;
   c.max_points = options.fallback_max_points;
   c.corrector = options.newton;
-  Eigen::VectorXd x_end;
-  const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {
-    x_end = cp.x;
-    return true;
-  });
-  *evaluations += cs.evaluations;
-  if (cs.status != ContinuationStatus::kReachedEnd) return false;
-  *x = x_end;
-  const NewtonSummary ns = SolveNewton(HbmAtFrequency(system, omega, alpha), options.newton, x);
-  *evaluations += ns.iterations;
-  return ns.IsSolutionUsable();
+  return ContinueAndPolish(path, c, x0, HbmAtFrequency(system, omega, alpha), options.newton, x,
+                           evaluations);
 }
 
 namespace {
@@ -155,18 +168,8 @@ bool ContinueInFrequency(const HarmonicBalance& system, const Eigen::VectorXd& a
   HbmFrequencyFamily family(system, alpha);
   ContinuationOptions copt = MakeContinuationOptions(system, options, f_from, f_to, x_from);
   copt.max_points = std::min(copt.max_points, options.fallback_max_points);
-  Eigen::VectorXd x_end;
-  const ContinuationSummary cs = Continue(family, copt, x_from, [&](const ContinuationPoint& cp) {
-    x_end = cp.x;
-    return true;
-  });
-  *iterations += cs.evaluations;
-  if (cs.status != ContinuationStatus::kReachedEnd) return false;
-  *x = x_end;
-  const NewtonSummary ns =
-      SolveNewton(HbmAtFrequency(system, RadPerS(f_to), alpha), options.newton, x);
-  *iterations += ns.iterations;
-  return ns.IsSolutionUsable();
+  return ContinueAndPolish(family, copt, x_from, HbmAtFrequency(system, RadPerS(f_to), alpha),
+                           options.newton, x, iterations);
 }
 
 // Homotopy in α: the solution at α = 0 (x0) continued along α(λ) = λ·α_target, λ: 0 → 1.
@@ -184,17 +187,8 @@ bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha
   c.min_step = 1e-8;
   c.max_points = options.fallback_max_points;
   c.corrector = options.newton;
-  Eigen::VectorXd x_end;
-  const ContinuationSummary cs = Continue(path, c, x0, [&](const ContinuationPoint& cp) {
-    x_end = cp.x;
-    return true;
-  });
-  *iterations += cs.evaluations;
-  if (cs.status != ContinuationStatus::kReachedEnd) return false;
-  *x = x_end;
-  const NewtonSummary ns = SolveNewton(HbmAtFrequency(system, omega, alpha), options.newton, x);
-  *iterations += ns.iterations;
-  return ns.IsSolutionUsable();
+  return ContinueAndPolish(path, c, x0, HbmAtFrequency(system, omega, alpha), options.newton, x,
+                           iterations);
 }
 
 // Newton at (ω, α) from `starts` in order; true with *x the solution.
