@@ -205,6 +205,11 @@ struct KnownSolution {
   // matters for its branch (a neighbouring frequency's optimum), which a cold start at its α
   // need not find.
   bool cold_start = true;
+  // With cold_start: the start may lie short of α, where the α homotopy from 0 stops (a kink of
+  // the contact laws it cannot pass) — the run needs a solution near α, not at it — instead of the
+  // continuations in frequency (the ladder's refinement: 384 s for one start at 1098.98 Hz on the
+  // FE cascade's curve). Seeds keep the continuations: they find branches the α path does not.
+  bool start_short_of_alpha = false;
 };
 
 // Bound runs (both directions) started from known solutions, folded into `bounds` with

@@ -81,6 +81,16 @@ bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& 
                           const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
                           int* evaluations);
 
+// The α homotopy α(λ) = λ·alpha at ω followed from α = 0 (Newton from the stick solution there)
+// as far as it goes in options.fallback_max_points points. Where it stops short of λ = 1 (a kink
+// of the contact laws it cannot pass, or the points run out) its last point still solves the
+// balance at λ·alpha: a start for an optimisation over α, which needs a solution near its seed,
+// not at it. True with *lambda the λ reached (0 < λ ≤ 1) and *x the solution at λ·alpha,
+// polished by Newton; false when no point beyond α = 0 converged.
+bool ContinueTowardsAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
+                          const FrfOptions& options, double* lambda, Eigen::VectorXd* x,
+                          int* evaluations);
+
 // Adapters that expose a harmonic-balance problem at fixed α to the generic solvers (λ = ω in
 // rad/s).
 class HbmAtFrequency : public SquareSystem {

@@ -114,16 +114,24 @@ void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s) {
 // stalled ones ran to 2000, minutes per seed. Same bounds there with 40, 100 and 2000.
 constexpr int kSeedFallbackPoints = 40;
 
+// Points of the α homotopy for a start that may fall short of its α. At 1098.98 Hz on the FE
+// cascade (H = 3, the ladder's minimum) 40 points reach λ = 0.23 and the run from there a
+// minimum 21 % above the one the continuations in frequency lead to after 370 s; 200 points
+// reach λ = 1 (884 evaluations, ~16 s) and the same minimum to 14 digits.
+constexpr int kAlphaPathPoints = 200;
+
 // A converged harmonic-balance solution at α to start from, cheapest route first: plain Newton
 // from the cold start (SolveAtFrequency without its fallback paths), then from the other seeds'
-// starts, then SolveAtFrequency with its fallbacks (α homotopy, frequency continuations), then a
-// ramp up to f. Near a resonance of the FE cascade the fallbacks cost minutes per seed (1103 Hz:
-// 98 % of a bound), where Newton from an earlier seed's solution takes a few steps. A known
-// solution comes before all of them: near a resonance several periodic solutions coexist at one
-// α, and the cold start would leave the one that was found (e.g. by a time integration).
+// starts, then (with alpha_start) the α homotopy from 0 as far as it goes, then SolveAtFrequency
+// with its fallbacks (α homotopy, frequency continuations), then a ramp up to f. Near a resonance
+// of the FE cascade the fallbacks cost minutes per seed (1103 Hz: 98 % of a bound), where Newton
+// from an earlier seed's solution takes a few steps. A known solution comes before all of them:
+// near a resonance several periodic solutions coexist at one α, and the cold start would leave the
+// one that was found (e.g. by a time integration).
 bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
                    const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x,
-                   const Eigen::VectorXd& known) {
+                   const Eigen::VectorXd& known, Eigen::VectorXd* alpha_start) {
+  if (alpha_start != nullptr) *alpha_start = alpha;
   FrfOptions frf;
   frf.use_fallbacks = false;
   if (known.size() == sys.num_unknowns()) {
@@ -145,6 +153,19 @@ bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::Vect
   }
   frf.use_fallbacks = true;
   frf.fallback_max_points = kSeedFallbackPoints;
+  if (alpha_start != nullptr) {
+    // The α homotopy from 0 as far as it goes (KnownSolution::start_short_of_alpha): the run
+    // needs a solution near α, and the continuations in frequency below cost minutes next to a
+    // resonance (FE cascade, the ladder's start at 1098.98 Hz, H = 3: 4 of them, 240 s).
+    double lambda = 0.0;
+    int evaluations = 0;
+    FrfOptions path = frf;
+    path.fallback_max_points = kAlphaPathPoints;
+    if (ContinueTowardsAlpha(sys, alpha, RadPerS(freq_hz), path, &lambda, x, &evaluations)) {
+      *alpha_start = lambda * alpha;
+      return true;
+    }
+  }
   p = SolveAtFrequency(sys, alpha, freq_hz, Eigen::VectorXd(), frf);
   if (p.status == SolverStatus::kConverged) {
     *x = p.x;

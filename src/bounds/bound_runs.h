@@ -55,10 +55,13 @@ inline double RankValue(const BoundSolution& s, BoundsOptions::Objective objecti
 void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
 
 // A converged harmonic-balance solution at α to start from (see bound_common.cpp); `known`, if
-// not empty, is tried first (a solution known from elsewhere: Newton keeps its branch).
+// not empty, is tried first (a solution known from elsewhere: Newton keeps its branch). With
+// `alpha_start` the start may lie short of α on the α homotopy from 0 (*alpha_start its α);
+// without, it is at α or there is none.
 bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::VectorXd& alpha,
                    const std::vector<Eigen::VectorXd>& other_starts, Eigen::VectorXd* x,
-                   const Eigen::VectorXd& known = Eigen::VectorXd());
+                   const Eigen::VectorXd& known = Eigen::VectorXd(),
+                   Eigen::VectorXd* alpha_start = nullptr);
 
 // Reduced-space run over α (reduced_bounds.cpp).
 BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,

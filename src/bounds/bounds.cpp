@@ -267,6 +267,7 @@ struct SeedStart {
   bool ok = false;
   Eigen::VectorXd x0;
   double objective = 0.0;        // φ at the start: a1² + b1², or η
+  Eigen::VectorXd alpha0;        // the α of x0: the seed's, or short of it on the α homotopy
   double objective_scale = 1.0;  // the runs' objectives are divided by this
   bool kkt[2] = {false, false};  // [min response, max response]: start is a KKT point
 };
@@ -280,7 +281,8 @@ double RunSign(const BoundsOptions& options, bool maximise_response) {
 std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
                                   const BoundsOptions& options,
                                   const std::vector<Eigen::VectorXd>& seeds,
-                                  const std::vector<Eigen::VectorXd>& known_x, RunSetup setup,
+                                  const std::vector<Eigen::VectorXd>& known_x,
+                                  const std::vector<bool>& short_starts, RunSetup setup,
                                   BoundsResult* result) {
   const double omega = RadPerS(freq_hz);
   std::vector<SeedStart> out(seeds.size());
@@ -288,7 +290,10 @@ std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
   for (size_t s = 0; s < seeds.size(); ++s) {
     SeedStart& st = out[s];
     const Eigen::VectorXd known = s < known_x.size() ? known_x[s] : Eigen::VectorXd();
-    if (!StartSolution(system, freq_hz, seeds[s], starts, &st.x0, known)) {
+    st.alpha0 = seeds[s];
+    const bool may_fall_short = s < short_starts.size() && short_starts[s];
+    if (!StartSolution(system, freq_hz, seeds[s], starts, &st.x0, known,
+                       may_fall_short ? &st.alpha0 : nullptr)) {
       ++result->start_failures;
       continue;
     }
@@ -299,7 +304,7 @@ std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
       st.objective = y0 * y0;
       st.objective_scale = std::max(y0 * y0, 1e-300);
     } else {
-      st.objective = system.Energies(st.x0, omega, seeds[s]).loss_factor();
+      st.objective = system.Energies(st.x0, omega, st.alpha0).loss_factor();
       st.objective_scale = std::max(std::abs(st.objective), 1e-6);
     }
     setup.objective_scale = st.objective_scale;
@@ -307,7 +312,7 @@ std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
       st.kkt[0] = st.kkt[1] = true;
     } else {
       const std::array<bool, 2> kkt =
-          StartIsKktPoint(setup, st.x0, seeds[s], options.tolerance,
+          StartIsKktPoint(setup, st.x0, st.alpha0, options.tolerance,
                           {RunSign(options, false), RunSign(options, true)});
       st.kkt[0] = kkt[0];
       st.kkt[1] = kkt[1];
@@ -370,7 +375,8 @@ struct RunTally {
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
                             const std::vector<Eigen::VectorXd>& known_x,
-                            const std::vector<int>& directions) {
+                            const std::vector<int>& directions,
+                            const std::vector<bool>& short_starts) {
   const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
@@ -402,7 +408,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   }
 
   const std::vector<SeedStart> st =
-      SeedStarts(system, freq_hz, options, seeds, known_x, setup, &result);
+      SeedStarts(system, freq_hz, options, seeds, known_x, short_starts, setup, &result);
   // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best), never
   // another run's result, so the outcome does not depend on the order of the runs.
   const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};
@@ -426,7 +432,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       BoundSolution sol;
       if (st[s].kkt[dir]) {
         sol.x = x0;
-        sol.alpha = seeds[s];
+        sol.alpha = st[s].alpha0;
         sol.seed = s;
         sol.status = BoundStatus::kConverged;
         sol.message = nc == 0 ? "no contacts: unique response"
@@ -435,9 +441,9 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       } else {
         const bool reduced = options.method != BoundsOptions::kFullSpace;
         const bool full = options.method != BoundsOptions::kReducedSpace;
-        if (reduced) sol = RunReduced(setup, x0, seeds[s], s, options.max_iterations, 1e-7);
+        if (reduced) sol = RunReduced(setup, x0, st[s].alpha0, s, options.max_iterations, 1e-7);
         if (full) {
-          BoundSolution other = ipopt.Run(setup, x0, seeds[s], s);
+          BoundSolution other = ipopt.Run(setup, x0, st[s].alpha0, s);
           const double sign = maximise_response ? 1.0 : -1.0;  // larger is better after the sign
           if (!reduced || !sol.IsUsable() ||
               (other.IsUsable() && sign * RankValue(other, options.objective) >

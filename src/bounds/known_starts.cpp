@@ -62,6 +62,7 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   // The known solutions themselves, where Newton converges on them at this frequency.
   std::vector<Eigen::VectorXd> seeds, xs;
   std::vector<int> directions;
+  std::vector<bool> short_starts;
   for (const KnownSolution& k : known) {
     Eigen::VectorXd x = k.x;
     const Eigen::VectorXd alpha = k.alpha.cwiseMax(-1.0).cwiseMin(1.0);
@@ -71,6 +72,7 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
     if (!solved && !k.cold_start) continue;
     seeds.push_back(alpha);
     directions.push_back((k.run_min ? 1 : 0) | (k.run_max ? 2 : 0));
+    short_starts.push_back(!solved && k.start_short_of_alpha);
     if (!solved) {
       // StartSolution's usual routes only (the same Newton would fail again there).
       xs.emplace_back();
@@ -96,7 +98,8 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   o.check_samples = 0;
   o.progress = nullptr;
   const BoundSolution kept[2] = {bounds->min, bounds->max};
-  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs, directions), o.objective, bounds);
+  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs, directions, short_starts), o.objective,
+              bounds);
   int moved = 0;
   for (bool is_max : {false, true}) {
     BoundSolution& b = is_max ? bounds->max : bounds->min;

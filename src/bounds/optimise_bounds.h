@@ -11,9 +11,12 @@ namespace fricrom {
 // Bounds from the given α seeds only (no sample check); options must be valid, seeds non-empty.
 // known_x: empty, or per seed a solution (maybe empty) that Newton starts from first.
 // directions: empty (both), or per seed a mask of the runs to make: 1 minimum, 2 maximum response.
+// short_starts: empty (none), or per seed whether its start may lie short of its α on the α
+// homotopy (KnownSolution::start_short_of_alpha).
 BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
                             const std::vector<Eigen::VectorXd>& known_x = {},
-                            const std::vector<int>& directions = {});
+                            const std::vector<int>& directions = {},
+                            const std::vector<bool>& short_starts = {});
 
 }  // namespace fricrom

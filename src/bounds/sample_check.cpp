@@ -237,6 +237,10 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
       known.push_back({system.EmbedLowerHarmonics(low.max.x, 1), low.max.alpha, false, true});
     }
   }
+  // An optimum Newton and the residual homotopy cannot carry to H starts its run short of its α
+  // on the α homotopy, not from the continuations in frequency (minutes next to a resonance);
+  // a bound still lost falls back on the full search at H below.
+  for (KnownSolution& k : known) k.start_short_of_alpha = true;
   BoundsResult result;
   result.freq_hz = low.freq_hz;
   result.min.message = result.max.message = "refinement at H: no run converged";

@@ -172,12 +172,8 @@ bool ContinueInFrequency(const HarmonicBalance& system, const Eigen::VectorXd& a
                            options.newton, x, iterations);
 }
 
-// Homotopy in α: the solution at α = 0 (x0) continued along α(λ) = λ·α_target, λ: 0 → 1.
-bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
-                     const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
-                     int* iterations) {
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
-  HbmAlphaPath path(system, omega, zero, alpha);
+// The α homotopy's options from x0 at α = 0 (ContinueInAlpha, ContinueTowardsAlpha).
+ContinuationOptions AlphaPathOptions(const Eigen::VectorXd& x0, const FrfOptions& options) {
   ContinuationOptions c;
   c.lambda_start = 0.0;
   c.lambda_end = 1.0;
@@ -187,8 +183,17 @@ bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha
   c.min_step = 1e-8;
   c.max_points = options.fallback_max_points;
   c.corrector = options.newton;
-  return ContinueAndPolish(path, c, x0, HbmAtFrequency(system, omega, alpha), options.newton, x,
-                           iterations);
+  return c;
+}
+
+// Homotopy in α: the solution at α = 0 (x0) continued along α(λ) = λ·α_target, λ: 0 → 1.
+bool ContinueInAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
+                     const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,
+                     int* iterations) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
+  HbmAlphaPath path(system, omega, zero, alpha);
+  return ContinueAndPolish(path, AlphaPathOptions(x0, options), x0,
+                           HbmAtFrequency(system, omega, alpha), options.newton, x, iterations);
 }
 
 // Newton at (ω, α) from `starts` in order; true with *x the solution.
@@ -206,6 +211,37 @@ bool NewtonFromStarts(const HarmonicBalance& system, const Eigen::VectorXd& alph
 }
 
 }  // namespace
+
+bool ContinueTowardsAlpha(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
+                          const FrfOptions& options, double* lambda, Eigen::VectorXd* x,
+                          int* evaluations) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(alpha.size());
+  Eigen::VectorXd x0 = system.StickLinearSolution(omega);
+  const NewtonSummary s0 = SolveNewton(HbmAtFrequency(system, omega, zero), options.newton, &x0);
+  *evaluations += s0.iterations;
+  if (!s0.IsSolutionUsable()) return false;
+  const HbmAlphaPath path(system, omega, zero, alpha);
+  double reached = 0.0;
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs =
+      Continue(path, AlphaPathOptions(x0, options), x0, [&](const ContinuationPoint& cp) {
+        if (cp.lambda > reached && cp.lambda <= 1.0) {
+          reached = cp.lambda;
+          x_end = cp.x;
+        }
+        return true;
+      });
+  *evaluations += cs.evaluations;
+  if (cs.status == ContinuationStatus::kReachedEnd) reached = 1.0;
+  if (!(reached > 0.0) || x_end.size() == 0) return false;
+  *x = x_end;
+  const NewtonSummary ns =
+      SolveNewton(HbmAtFrequency(system, omega, reached * alpha), options.newton, x);
+  *evaluations += ns.iterations;
+  if (!ns.IsSolutionUsable()) return false;
+  *lambda = reached;
+  return true;
+}
 
 FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
                           double freq_hz, const Eigen::VectorXd& x_start,

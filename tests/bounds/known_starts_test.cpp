@@ -90,6 +90,47 @@ TEST(ImproveBounds, AnUnusableKnownSolutionIsStartedColdOrDropped) {
   EXPECT_EQ(dropped.optimizer_runs, weak.optimizer_runs);
 }
 
+// An unusable known solution with start_short_of_alpha where plain Newton at its α fails and
+// the α homotopy from 0 reaches it (both asserted: the α path, which comes before the
+// continuations in frequency, is then the start's route): 267 Hz, next to the resonance, at
+// an α where a search over 20 random α found plain Newton failing (7 of 20 there). The run from
+// there gives a usable minimum, a harmonic-balance solution checked here, no higher than the
+// known α's own response.
+TEST(ImproveBounds, AStartOnTheAlphaPathGivesAUsableBound) {
+  const HbmSystem& sys = Baseline();
+  const double f = 267.0, omega = 2 * std::numbers::pi * f;
+  KnownSolution k;
+  k.alpha = Eigen::Vector4d(-0.5, -0.92, -0.96, -0.13);
+  FrfOptions plain;
+  plain.use_fallbacks = false;
+  ASSERT_NE(SolveAtFrequency(sys, k.alpha, f, Eigen::VectorXd(), plain).status,
+            SolverStatus::kConverged)
+      << "plain Newton solves this alpha: the alpha path is not reached";
+  double lambda = 0.0;
+  int evaluations = 0;
+  Eigen::VectorXd x_path;
+  FrfOptions path;
+  path.fallback_max_points = 200;
+  ASSERT_TRUE(ContinueTowardsAlpha(sys, k.alpha, omega, path, &lambda, &x_path, &evaluations));
+  const FrfPoint at_alpha = SolveAtFrequency(sys, k.alpha, f, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(at_alpha.status, SolverStatus::kConverged);
+  k.x = Eigen::VectorXd::Constant(sys.num_unknowns(), std::numeric_limits<double>::quiet_NaN());
+  k.run_max = false;
+  k.start_short_of_alpha = true;
+  BoundsOptions o;
+  o.check_samples = 0;
+  BoundsResult r;
+  r.freq_hz = f;
+  EXPECT_EQ(ImproveBounds(sys, f, o, {k}, &r), 1);
+  ASSERT_TRUE(r.min.IsUsable()) << r.min.message;
+  EXPECT_FALSE(r.max.IsUsable());
+  EXPECT_LE(r.min.amplitude, at_alpha.amplitude * (1 + 1e-9));
+  HbmEvaluation e;
+  sys.Evaluate(r.min.x, omega, r.min.alpha, HbmRequest{}, &e);
+  EXPECT_LE(e.residual.norm(), 1e-6 * sys.ResidualScale());
+  EXPECT_DOUBLE_EQ(r.min.amplitude, sys.Amplitude(r.min.x));
+}
+
 TEST(ImproveBounds, AStartInsideTheBoundsChangesNothing) {
   BoundsResult r = ComputeBounds(Baseline(), kFreq, BoundsOptions{});
   ASSERT_TRUE(r.IsUsable());

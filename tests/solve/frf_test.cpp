@@ -204,6 +204,40 @@ TEST(Frf, ResidualHomotopyFromANeighbouringSolution) {
   }
 }
 
+// The α homotopy as far as it goes (ContinueTowardsAlpha), lumped case, γ = 0.3, 262 Hz, H = 3,
+// α random: with a generous budget it reaches λ = 1; with 3 points it stops short, and its end
+// still solves R = 0 at λ·α (the start a bound run takes). The residual is evaluated here.
+TEST(Frf, AlphaHomotopyAsFarAsItGoes) {
+  const Case cs = testing::LoadBaseline({{"gamma", 0.3}});
+  HbmSystem sys(cs.model, HbmOptions{3, 128});
+  const double f = 262.0, omega = kTwoPi * f;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int short_of_it = 0;
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Vector4d a(u(rng), u(rng), u(rng), u(rng));
+    for (const int points : {400, 3}) {
+      FrfOptions o;
+      o.fallback_max_points = points;
+      double lambda = -1.0;
+      int evaluations = 0;
+      Eigen::VectorXd x;
+      ASSERT_TRUE(ContinueTowardsAlpha(sys, a, omega, o, &lambda, &x, &evaluations)) << i;
+      ASSERT_GT(lambda, 0.0) << i;
+      ASSERT_LE(lambda, 1.0) << i;
+      EXPECT_GT(evaluations, 0);
+      if (points == 400) {
+        EXPECT_EQ(lambda, 1.0) << i << ": the full path stopped short";
+      }
+      short_of_it += lambda < 1.0;
+      HbmEvaluation e;
+      sys.Evaluate(x, omega, lambda * a, HbmRequest{}, &e);
+      EXPECT_LE(e.residual.norm(), 1e-7 * sys.ResidualScale()) << i << " at lambda " << lambda;
+    }
+  }
+  EXPECT_GT(short_of_it, 0) << "3 points reached every alpha: the test lost its point";
+}
+
 // Issue 9, defect 9: single-frequency solves use the globalisation of the sweep. At gamma = 0.3,
 // 269 Hz and beta = 0.175, 267 Hz plain Newton (and the alpha homotopy) failed for all 625 alpha
 // of a 5^4 grid; every one must converge now. At mu = 0, 266 Hz the solve must land on the
