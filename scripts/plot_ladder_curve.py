@@ -7,7 +7,9 @@ Usage:
 
 Reads /bounds/{freq_hz, y_min_m, y_max_m} of two `fricrom bounds CASE --points N` runs over the
 same frequencies and draws y_min and y_max [m] of both over frequency (log scale, the peak of each
-marked) and R = 1 − (y_max − y_min)/y_max below; with --json writes the points (SI units).
+marked), R = 1 − (y_max − y_min)/y_max below and, where both files hold /bounds/wall_s, the wall
+time of each point [s] (log scale; the curve's wall time in the legend); with --json writes the
+points (SI units).
 Failed bounds are NaN in the files and gaps in the figure. Exit status 2 on files that do not
 hold curves over the same frequencies.
 """
@@ -28,9 +30,15 @@ def number_or_null(v):
 
 
 def read_curve(path):
+    """freq_hz, y_min, y_max, the points' wall times (None if absent) and the curve's."""
     with common.open_h5(path) as h5:
         f, lo, hi = common.bound_curve(h5)
-    return np.asarray(f, float), np.asarray(lo, float), np.asarray(hi, float)
+        g = h5["bounds"]
+        wall = np.asarray(g["wall_s"][...], float) if "wall_s" in g else None
+        total = float(g.attrs["wall_s"]) if "wall_s" in g.attrs else float("nan")
+    if wall is not None and wall.shape != np.shape(f):
+        raise common.InputError(f"{path}: /bounds/wall_s does not match /bounds/freq_hz")
+    return np.asarray(f, float), np.asarray(lo, float), np.asarray(hi, float), wall, total
 
 
 def work():
@@ -51,10 +59,15 @@ def work():
     f = curves[0][1]
     if curves[1][1].shape != f.shape or not np.allclose(curves[1][1], f, rtol=1e-12):
         raise common.InputError(f"{path_a} and {path_b} are not curves over the same frequencies")
-    fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
-                                  gridspec_kw={"height_ratios": [2.2, 1]})
+    timed = all(c[4] is not None for c in curves)
+    if timed:
+        fig, (ax, axr, axt) = plt.subplots(3, 1, figsize=(8, 8.3), sharex=True,
+                                           gridspec_kw={"height_ratios": [2.2, 1, 1]})
+    else:
+        fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
+                                      gridspec_kw={"height_ratios": [2.2, 1]})
     series = {}
-    for (name, _, lo, hi), color in zip(curves, COLORS):
+    for (name, _, lo, hi, wall, total), color in zip(curves, COLORS):
         r = 1 - (hi - lo) / hi
         series[name] = {"y_min_m": [number_or_null(v) for v in lo],
                         "y_max_m": [number_or_null(v) for v in hi],
@@ -68,14 +81,23 @@ def work():
             ax.annotate(f"{f[p]:.2f} Hz, {hi[p]:.4e} m", (f[p], hi[p]), fontsize=7, color=color,
                         textcoords="offset points", xytext=(8, 8 if color == COLORS[1] else -12))
         axr.plot(f, r, "o-", color=color, ms=3, lw=1, label=name)
+        if timed:
+            series[name]["point_wall_s"] = [number_or_null(v) for v in wall]
+            series[name]["curve_wall_s"] = number_or_null(total)
+            axt.semilogy(f, wall, "o-", color=color, ms=3, lw=1,
+                         label=f"{name}: curve {total:.0f} s")
     ax.set_ylabel("response amplitude, blade 2 [m]")
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=7, ncol=2, loc="lower left")
     axr.set_ylabel("R = 1 − δ/y_max")
-    axr.set_xlabel("frequency [Hz]")
     axr.set_ylim(-0.05, 1.05)
     axr.grid(True, lw=0.3)
     axr.legend(fontsize=7)
+    if timed:
+        axt.set_ylabel("wall time per point [s]")
+        axt.grid(True, which="both", lw=0.3)
+        axt.legend(fontsize=7)
+    (axt if timed else axr).set_xlabel("frequency [Hz]")
     fig.suptitle(f"Bound curves: {label_a} and {label_b}", fontsize=10)
     fig.tight_layout()
     common.save_figure(fig, out)

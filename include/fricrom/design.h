@@ -77,7 +77,7 @@ BoundCurve ComputeBoundCurve(
 // The two passes one point at a time, for callers that hand the points out themselves (MPI
 // ranks, journals). Pass 2 of point i: pass1[i] merged (MergeBounds) with the bounds from the
 // neighbours' optimal α that differ from pass1[i]'s own; pass1[i] unchanged, at no cost, when
-// they offer no new start.
+// they offer no new start. wall_s is pass 1's plus pass 2's.
 BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
                                   const std::vector<BoundsResult>& pass1, int i,
                                   const BoundsOptions& bounds);

@@ -68,9 +68,13 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
       if (!dup) known.push_back({s->x, s->alpha, true, true, false});
     }
   }
+  const auto t0 = std::chrono::steady_clock::now();
   BoundsResult out = own;
   // Only the neighbours' optima: pass 1 already ran the seed set and the sample check.
   ImproveBounds(system, own.freq_hz, bounds, known, &out);
+  // A point's time is what it cost in all passes (the curve's per-point wall times).
+  out.wall_s =
+      own.wall_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
 
