@@ -25,12 +25,14 @@ constexpr int kAdjointProducts = 16;
 // point. Where no contact changes state between the two α the balance is linear in x (stick) or
 // nearly so, and one or two steps converge without a new factorisation. On success x solves
 // R = 0 to Newton's tolerance; on failure x is left as the best iterate (a warm start).
+// *r_start receives R at the start x, which a Newton solve from there need not evaluate again.
 bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const NewtonOptions& o,
-                Eigen::VectorXd* x) {
+                Eigen::VectorXd* x, Eigen::VectorXd* r_start) {
   constexpr int kChordSteps = 4;
   const double scale = at.ResidualScale();
   Eigen::VectorXd r, x_trial, r_trial;
   at.Evaluate(*x, &r, nullptr);
+  *r_start = r;
   double norm = r.norm() / scale;
   for (int k = 0; k < kChordSteps && std::isfinite(norm); ++k) {
     if (norm <= o.residual_tolerance) return true;
@@ -185,14 +187,16 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
       const HbmAtFrequency at(sys, s.omega, a_new);
       bool solved = false;
       x_new = x;
-      if (chord && ChordSolve(at, *lu, newton, &x_new)) {
+      Eigen::VectorXd r_at_x;  // R(x, α_new), from the chord attempt
+      if (chord && ChordSolve(at, *lu, newton, &x_new, &r_at_x)) {
         regimes_new = sys.ContactRegimes(x_new, s.omega, a_new);
         solved = regimes_new == regimes &&
                  value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new);
       }
       if (!solved) {
         x_new = x;
-        if (!SolveNewtonPreconditioned(at, newton, NewtonPreconditioner{lu.get(), true}, &x_new)
+        if (!SolveNewtonPreconditioned(at, newton, NewtonPreconditioner{lu.get(), true}, &x_new,
+                                       nullptr, r_at_x.size() > 0 ? &r_at_x : nullptr)
                  .IsSolutionUsable()) {
           continue;
         }

@@ -174,7 +174,8 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
 namespace {
 
 NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options,
-                        NewtonStepper& stepper, Eigen::VectorXd* x) {
+                        NewtonStepper& stepper, Eigen::VectorXd* x,
+                        const Eigen::VectorXd* residual_at_start) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   if (x == nullptr || x->size() != system.size()) {
@@ -188,8 +189,16 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
   // the tolerance pays no Jacobian there (warm-started solves of the bound optimiser).
   double previous_norm = 0.0;
   std::vector<double> norms;  // ‖R‖/scale after each iteration, for the stall test
-  system.Evaluate(*x, &r, nullptr);
-  ++summary.evaluations;
+  if (residual_at_start != nullptr) {
+    if (residual_at_start->size() != system.size()) {
+      throw std::invalid_argument("SolveNewton: residual at the start must have size " +
+                                  std::to_string(system.size()));
+    }
+    r = *residual_at_start;
+  } else {
+    system.Evaluate(*x, &r, nullptr);
+    ++summary.evaluations;
+  }
   double norm = r.norm() / scale;
   summary.initial_residual = summary.final_residual = norm;
   if (!std::isfinite(norm)) {
@@ -293,9 +302,10 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
 
 NewtonSummary SolveNewtonPreconditioned(const SquareSystem& system, const NewtonOptions& options,
                                         NewtonPreconditioner preconditioner, Eigen::VectorXd* x,
-                                        std::shared_ptr<const dense::Lu>* factorization) {
+                                        std::shared_ptr<const dense::Lu>* factorization,
+                                        const Eigen::VectorXd* residual_at_start) {
   NewtonStepper stepper(system, options, preconditioner);
-  const NewtonSummary summary = RunNewton(system, options, stepper, x);
+  const NewtonSummary summary = RunNewton(system, options, stepper, x, residual_at_start);
   if (factorization != nullptr && stepper.factorization()) *factorization = stepper.factorization();
   return summary;
 }

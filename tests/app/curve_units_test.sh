@@ -17,7 +17,10 @@ points="${FRICROM_TEST_CURVE_POINTS:-40}"
 curve=(bounds "$root/meshes/lumped3/baseline.toml" --method reduced --points "$points" --check-samples 1000
        --random-seeds 8 --json --quiet)
 
+source "$(dirname "$0")/kill_mid_run.sh"
+t0=$(date +%s.%N)
 "$fricrom" "${curve[@]}" --threads 1 --out "$tmp/ref" > "$tmp/ref.json"
+t_ref=$(seconds_since "$t0")
 "$fricrom" "${curve[@]}" --threads 2 --out "$tmp/two" > "$tmp/two.json"
 
 compare() {  # compare DIR_A DIR_B: every dataset of bounds.h5 to 1e-12, bounds.csv byte for byte
@@ -92,13 +95,19 @@ for name in sys.argv[1:]:
     assert j["status"] == "converged", j["status"]
 PY
 
-# Kill at a random moment after the journal appears, then resume on 2 threads.
-"$fricrom" "${curve[@]}" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
-pid=$!
-for _ in $(seq 100); do [ -f "$tmp/k/bounds.journal" ] && break; sleep 0.05; done
-sleep "$("$py" -c 'import random; print(round(random.uniform(0.0, 3.0), 2))')"
-kill -9 "$pid" 2>/dev/null || true
-wait "$pid" 2>/dev/null || true
+# Kill at a random moment within 70 % of the serial run's time after the journal appears, then
+# resume on 2 threads; a kill that comes after the run ended is retried with half the window.
+window=$("$py" -c 'import sys; print(0.7 * float(sys.argv[1]))' "$t_ref")
+killed=0
+for _ in 1 2 3 4 5 6; do
+  rm -rf "$tmp/k"
+  if kill_mid_run "$tmp/k/bounds.journal" "$window" "$fricrom" "${curve[@]}" --threads 1 --out "$tmp/k"; then
+    killed=1
+    break
+  fi
+  window=$("$py" -c 'import sys; print(0.5 * float(sys.argv[1]))' "$window")
+done
+[ "$killed" = 1 ] || fail "every run ended before its kill (window down to $window s)"
 recorded=$("$py" - "$tmp/k/bounds.journal" <<'PY'
 import json, os, sys
 n = 0

@@ -17,7 +17,10 @@ steps="${FRICROM_TEST_SWEEP_STEPS:-80}"
 sweep=(sweep "$root/meshes/lumped3/baseline.toml" --method reduced --param gamma --from 0 --to 0.43
        --freq 266 --json --quiet)
 
+source "$(dirname "$0")/kill_mid_run.sh"
+t0=$(date +%s.%N)
 "$fricrom" "${sweep[@]}" --steps "$steps" --threads 1 --out "$tmp/ref" > "$tmp/ref.json"
+t_ref=$(seconds_since "$t0")
 "$fricrom" "${sweep[@]}" --steps "$steps" --threads 2 --out "$tmp/two" > "$tmp/two.json"
 
 compare() {  # compare DIR_A DIR_B: the datasets of sweep.h5 to 1e-12, sweep.csv byte for byte
@@ -60,14 +63,20 @@ set -e
 [ "$code" != 0 ] || fail "mpirun -np 2 fricrom modes succeeded"
 grep -q "distribute their work over MPI" "$tmp/mpi_modes.err" || fail "mpirun modes: unclear message"
 
-# Kill at a random moment within the first 2 s after the journal appears (the whole run takes
-# about 5 s on 1 thread here, 80 values), then resume.
-"$fricrom" "${sweep[@]}" --steps "$steps" --threads 1 --out "$tmp/k" > /dev/null 2>&1 &
-pid=$!
-for _ in $(seq 100); do [ -f "$tmp/k/sweep.journal" ] && break; sleep 0.05; done
-sleep "$("$py" -c 'import random; print(round(random.uniform(0.0, 1.5), 2))')"
-kill -9 "$pid" 2>/dev/null || true
-wait "$pid" 2>/dev/null || true
+# Kill at a random moment within 70 % of the serial run's time after the journal appears, then
+# resume; a kill that comes after the run ended is retried with half the window.
+window=$("$py" -c 'import sys; print(0.7 * float(sys.argv[1]))' "$t_ref")
+killed=0
+for _ in 1 2 3 4 5 6; do
+  rm -rf "$tmp/k"
+  if kill_mid_run "$tmp/k/sweep.journal" "$window" \
+      "$fricrom" "${sweep[@]}" --steps "$steps" --threads 1 --out "$tmp/k"; then
+    killed=1
+    break
+  fi
+  window=$("$py" -c 'import sys; print(0.5 * float(sys.argv[1]))' "$window")
+done
+[ "$killed" = 1 ] || fail "every run ended before its kill (window down to $window s)"
 # Units the killed run made durable: the journal's complete lines after its header.
 recorded=$("$py" - "$tmp/k/sweep.journal" <<'PY'
 import json, os, sys

@@ -135,6 +135,29 @@ TEST(Newton, CallerPreconditionerSavesTheFactorisation) {
   EXPECT_GE(s2.factorizations, 1);
 }
 
+// A residual the caller already evaluated at the start (the bound optimiser's chord attempt)
+// spares one evaluation and changes nothing else, bit for bit; one of the wrong size is an error.
+TEST(Newton, ResidualGivenAtTheStartIsNotEvaluatedAgain) {
+  const CubicSystem sys(240);
+  const Eigen::VectorXd start = Eigen::VectorXd::Zero(240);
+  Eigen::VectorXd r0;
+  sys.Evaluate(start, &r0, nullptr);
+  Eigen::VectorXd x_plain = start, x_given = start;
+  const NewtonSummary a = SolveNewtonPreconditioned(sys, NewtonOptions{}, {}, &x_plain);
+  const NewtonSummary b =
+      SolveNewtonPreconditioned(sys, NewtonOptions{}, {}, &x_given, nullptr, &r0);
+  ASSERT_TRUE(a.IsSolutionUsable()) << a.BriefReport();
+  EXPECT_EQ(b.status, a.status);
+  EXPECT_EQ(b.iterations, a.iterations);
+  EXPECT_EQ(b.evaluations, a.evaluations - 1);
+  EXPECT_EQ(b.initial_residual, a.initial_residual);
+  EXPECT_EQ(x_given, x_plain);
+  Eigen::VectorXd x = start;
+  const Eigen::VectorXd wrong = Eigen::VectorXd::Zero(3);
+  EXPECT_THROW(SolveNewtonPreconditioned(sys, NewtonOptions{}, {}, &x, nullptr, &wrong),
+               std::invalid_argument);
+}
+
 TEST(Newton, ConvergesQuadraticallyToARoot) {
   Eigen::VectorXd x = Eigen::Vector2d(3.0, 1.0);
   const NewtonSummary s = SolveNewton(Circle{}, NewtonOptions{}, &x);
