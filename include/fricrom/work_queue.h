@@ -8,7 +8,10 @@
 
 namespace fricrom {
 
-// Worker threads for `requested` (0 = every core the machine reports), at most `units`, at least 1.
+// The cores this process may run on (its CPU affinity mask; the machine's count if unknown).
+int UsableCores();
+
+// Worker threads for `requested` (0 = UsableCores()), at most `units`, at least 1.
 int WorkerThreads(int requested, int units);
 
 // Runs unit(i) for every i in `pending` (in that order of hand-out) on WorkerThreads(threads, n)

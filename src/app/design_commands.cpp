@@ -107,7 +107,8 @@ void DesignCommands::Register(CLI::App& app) {
   s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
   s.bounds
       ->add_option("--threads", s.threads,
-                   "Worker threads over the frequencies (0: every core; results do not depend "
+                   "Worker threads over the frequencies (0: every core this process may use; "
+                   "results do not depend "
                    "on it)")
       ->check(CLI::Range(0, 4096));
   s.bounds->add_flag("--resume", s.resume,
@@ -128,8 +129,10 @@ void DesignCommands::Register(CLI::App& app) {
   s.sweep->add_flag("--track-peak", s.track_peak, "Locate the resonance again at every value");
   s.sweep->add_flag("--plot", s.plot, "Draw R(p)");
   s.sweep
-      ->add_option("--threads", s.threads,
-                   "Worker threads over the values (0: every core; results do not depend on it)")
+      ->add_option(
+          "--threads", s.threads,
+          "Worker threads over the values (0: every core this process may use; results do not "
+          "depend on it)")
       ->check(CLI::Range(0, 4096));
   s.sweep->add_flag("--resume", s.resume,
                     "Complete an interrupted run in the same --out (an error if there is none; "

@@ -1,5 +1,7 @@
 #include "fricrom/work_queue.h"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -8,8 +10,19 @@
 
 namespace fricrom {
 
+int UsableCores() {
+  // The process's CPU affinity, not the machine's core count: under `mpirun` (which binds each
+  // rank to a core by default) or `srun --cpus-per-task` a rank may run on fewer cores than the
+  // node has, and one thread per node core would share them (mpirun -np 1 on the 8-point FE
+  // curve: 2 threads on 1 core, 9.2 s against 7.9 s on 1 thread).
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 int WorkerThreads(int requested, int units) {
-  int n = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
+  const int n = requested > 0 ? requested : UsableCores();
   return std::max(1, std::min(n, units));
 }
 

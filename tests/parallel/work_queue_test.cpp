@@ -1,6 +1,7 @@
 #include "fricrom/work_queue.h"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <atomic>
 #include <chrono>
@@ -79,6 +80,27 @@ TEST(WorkQueue, WorkerThreadsIsBoundedByTheUnits) {
   EXPECT_EQ(WorkerThreads(1, 50), 1);
   EXPECT_GE(WorkerThreads(0, 50), 1);
   EXPECT_EQ(WorkerThreads(4, 0), 1);
+}
+
+// The default follows the CPU affinity (what mpirun's binding or srun leaves a rank), not the
+// machine's core count: pinned to one CPU, a run takes one thread.
+TEST(WorkQueue, DefaultThreadsFollowTheAffinityMask) {
+  cpu_set_t saved;
+  CPU_ZERO(&saved);
+  ASSERT_EQ(sched_getaffinity(0, sizeof saved, &saved), 0);
+  EXPECT_EQ(UsableCores(), CPU_COUNT(&saved));
+  EXPECT_LE(UsableCores(), static_cast<int>(std::thread::hardware_concurrency()));
+  int first = 0;
+  while (!CPU_ISSET(first, &saved)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const int pinned = UsableCores(), threads = WorkerThreads(0, 50);
+  ASSERT_EQ(sched_setaffinity(0, sizeof saved, &saved), 0);
+  EXPECT_EQ(pinned, 1);
+  EXPECT_EQ(threads, 1);
+  EXPECT_EQ(WorkerThreads(3, 50), 3);  // an explicit request is kept
 }
 
 }  // namespace
