@@ -108,8 +108,7 @@ void DesignCommands::Register(CLI::App& app) {
   s.bounds
       ->add_option("--threads", s.threads,
                    "Worker threads over the frequencies (0: every core this process may use; "
-                   "results do not depend "
-                   "on it)")
+                   "results do not depend on it)")
       ->check(CLI::Range(0, 4096));
   s.bounds->add_flag("--resume", s.resume,
                      "Complete an interrupted run in the same --out (an error if there is none; "
@@ -158,7 +157,7 @@ void DesignCommands::Register(CLI::App& app) {
   s.noa
       ->add_option("--threads", s.threads,
                    "Worker threads over the scan's values and the comparison sweep's (0: every "
-                   "core; same result for any)")
+                   "core this process may use; same result for any)")
       ->check(CLI::Range(0, 4096));
 
   s.verify =
@@ -173,7 +172,7 @@ void DesignCommands::Register(CLI::App& app) {
   s.verify
       ->add_option("--threads", s.threads,
                    "Worker threads over the bounds, alpha samples and time integrations (0: every "
-                   "core; same result for any)")
+                   "core this process may use; same result for any)")
       ->check(CLI::Range(0, 4096));
   TimeIntegrationOptions& to = s.time_options;
   s.verify->add_option("--time-steps", to.steps_per_period, "Time steps per period (default 256)")
