@@ -111,7 +111,9 @@ std::vector<Eigen::VectorXd> AlphaSeeds(int num_alpha, const BoundsOptions& opti
                                         SeedCounts* counts = nullptr);
 
 enum class BoundStatus {
-  kConverged,      // the optimiser met its tolerances and the point satisfies R = 0
+  // A usable bound: a point satisfying R = 0 where the optimiser met its tolerances, or a
+  // feasible point beyond every such point found (BoundSolution::stationary false).
+  kConverged,
   kMaxIterations,  // iteration limit
   kInfeasible,     // the optimiser found no point satisfying R = 0
   kFailed,         // anything else (restoration failure, tiny steps, evaluation errors, ...)
@@ -133,6 +135,11 @@ struct BoundSolution {
   int iterations = 0;  // interior-point iterations of the run that produced this solution
   int seed = -1;       // index of the α seed it came from
   std::vector<ContactRegime> regimes;
+  // True where a run's stopping test held (a KKT or stationary point, or a start that passed the
+  // KKT test); false for a feasible point taken because it goes beyond those: an α sample, a
+  // known solution, or the last iterate of a run stopped at its iteration limit. A bound encloses
+  // every feasible point its runs reached, finished or not.
+  bool stationary = false;
   bool IsUsable() const { return status == BoundStatus::kConverged; }
 };
 

@@ -67,6 +67,7 @@ json SolutionRecord(const BoundSolution& s) {
           {"loss_factor", Real(s.loss_factor)},
           {"residual", Real(s.residual)},
           {"status", static_cast<int>(s.status)},
+          {"stationary", s.stationary},
           {"message", s.message},
           {"iterations", s.iterations},
           {"seed", s.seed},
@@ -85,6 +86,10 @@ BoundSolution SolutionFromRecord(const json& j) {
     throw std::runtime_error("bound record: unknown status " + std::to_string(status));
   }
   s.status = static_cast<BoundStatus>(status);
+  if (!Key(j, "stationary").is_boolean()) {
+    throw std::runtime_error("bound record: 'stationary' is not true or false");
+  }
+  s.stationary = j.at("stationary").get<bool>();
   if (!Key(j, "message").is_string()) throw std::runtime_error("bound record: bad 'message'");
   s.message = j.at("message").get<std::string>();
   s.iterations = ReadInt(j, "iterations");

@@ -82,6 +82,9 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["status"] = b.IsUsable() ? "converged" : "min: " + Status(b.min) + ", max: " + Status(b.max);
   j["status_min"] = Status(b.min);
   j["status_max"] = Status(b.max);
+  // false: the bound is a feasible point beyond every stationary point its runs reached.
+  j["stationary_min"] = b.min.IsUsable() ? json(b.min.stationary) : json(nullptr);
+  j["stationary_max"] = b.max.IsUsable() ? json(b.max.stationary) : json(nullptr);
   j["spread_min"] = b.spread_min;
   j["spread_max"] = b.spread_max;
   j["seeds_tried"] = b.seeds_tried;

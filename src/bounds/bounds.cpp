@@ -333,17 +333,36 @@ double Incumbent(const std::vector<SeedStart>& starts, const BoundsOptions& opti
   return best;
 }
 
+// A feasible point beats a bound only by more than this relative margin (solver noise).
+constexpr double kBeyondMargin = 1e-7;
+
+// Whether `a` lies beyond `b` in the run's direction by more than kBeyondMargin.
+bool Beyond(const BoundSolution& a, const BoundSolution& b, BoundsOptions::Objective objective,
+            bool maximise_response) {
+  const double va = RankValue(a, objective), vb = RankValue(b, objective);
+  return (maximise_response ? va - vb : vb - va) > kBeyondMargin * std::abs(vb);
+}
+
 // Folds the runs into the bounds, in order: the best converged run per direction, the spread of
-// the converged optima, failures and abandoned runs counted.
+// the converged optima, failures and abandoned runs counted. A run stopped at its iteration limit
+// does not converge, but its last iterate satisfies R = 0 (the reduced-space runs keep every
+// iterate feasible): where it goes beyond the converged runs it becomes the bound (50-point FE
+// curve: y_max 5-6 % higher at 1074.5 and 1123.5 Hz, y_min 2.4x lower at 1084.7 Hz).
 struct RunTally {
-  BoundsOptions::Objective objective;
+  BoundsOptions::Objective objective = BoundsOptions::kAmplitude;
   bool have[2] = {false, false};
   double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0};
+  BoundSolution unfinished[2];  // the most extreme feasible last iterate of an unfinished run
 
   // False unless `sol` converged.
   bool Add(BoundSolution sol, bool maximise_response, BoundsResult* result) {
     const int d = maximise_response ? 1 : 0;
     BoundSolution& best = maximise_response ? result->max : result->min;
+    if (sol.status == BoundStatus::kMaxIterations && sol.residual <= bounds_detail::kFeasibility &&
+        std::isfinite(RankValue(sol, objective)) &&
+        (unfinished[d].x.size() == 0 || Beyond(sol, unfinished[d], objective, maximise_response))) {
+      unfinished[d] = sol;
+    }
     if (!sol.IsUsable()) {
       if (sol.status == BoundStatus::kAbandoned) {
         ++result->runs_abandoned;  // dominated by a KKT start: `best` is already usable
@@ -363,7 +382,23 @@ struct RunTally {
     return true;
   }
 
-  void Finish(BoundsResult* result) const {
+  void Finish(BoundsResult* result) {
+    for (int d = 0; d < 2; ++d) {
+      BoundSolution& best = d == 1 ? result->max : result->min;
+      // Only a converged bound is widened: an unfinished run alone is no bound.
+      if (!have[d] || unfinished[d].x.size() == 0 ||
+          !Beyond(unfinished[d], best, objective, d == 1)) {
+        continue;
+      }
+      const double obj = objective == BoundsOptions::kAmplitude ? unfinished[d].amplitude
+                                                                : unfinished[d].loss_factor;
+      lo[d] = std::min(lo[d], obj);
+      hi[d] = std::max(hi[d], obj);
+      best = unfinished[d];
+      best.status = BoundStatus::kConverged;
+      best.stationary = false;
+      best.message += "; its last iterate (R = 0) goes beyond every converged run";
+    }
     const double nan = std::numeric_limits<double>::quiet_NaN();
     result->spread_min = have[0] ? hi[0] - lo[0] : nan;
     result->spread_max = have[1] ? hi[1] - lo[1] : nan;
@@ -413,7 +448,8 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   // another run's result, so the outcome does not depend on the order of the runs.
   const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};
   IpoptBounds ipopt(system, options);
-  RunTally tally{options.objective};
+  RunTally tally;
+  tally.objective = options.objective;
   const int num_seeds = static_cast<int>(seeds.size());
   for (int s = 0; s < num_seeds; ++s) {
     if (options.progress && s > 0) options.progress("seeds", s, num_seeds);
@@ -435,6 +471,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
         sol.alpha = st[s].alpha0;
         sol.seed = s;
         sol.status = BoundStatus::kConverged;
+        sol.stationary = true;
         sol.message = nc == 0 ? "no contacts: unique response"
                               : "the start is already a KKT point (zero reduced gradient in alpha)";
         Describe(system, omega, &sol);

@@ -354,6 +354,7 @@ BoundSolution RunIpopt(Ipopt::IpoptApplication& app, const Ipopt::SmartPtr<Bound
     os << "; returned point violates R = 0: |R|/scale = " << out.residual;
     out.message += os.str();
   }
+  out.stationary = out.status == BoundStatus::kConverged;
   return out;
 }
 

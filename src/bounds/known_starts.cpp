@@ -98,13 +98,17 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   o.check_samples = 0;
   o.progress = nullptr;
   const BoundSolution kept[2] = {bounds->min, bounds->max};
-  MergeBounds(OptimiseBounds(system, freq_hz, o, seeds, xs, directions, short_starts), o.objective,
-              bounds);
+  const BoundsResult fresh =
+      OptimiseBounds(system, freq_hz, o, seeds, xs, directions, short_starts);
+  MergeBounds(fresh, o.objective, bounds);
   int moved = 0;
   for (bool is_max : {false, true}) {
     BoundSolution& b = is_max ? bounds->max : bounds->min;
-    // A tie on a plateau of the response over α keeps the solution held before.
+    // A tie on a plateau of the response over α keeps the solution held before, unless only the
+    // runs' tying point is stationary (a known solution a run found to be a KKT point).
     if (!Beats(options, b, kept[is_max], is_max)) b = kept[is_max];
+    const BoundSolution& run = is_max ? fresh.max : fresh.min;
+    if (!b.stationary && run.stationary && !Beats(options, b, run, is_max)) b = run;
     moved += Beats(options, b, before[is_max], is_max);
   }
   return moved;

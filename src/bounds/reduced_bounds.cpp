@@ -150,9 +150,11 @@ BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eig
     out.alpha = a;
     out.status = status;
     out.message = message;
+    out.stationary = status == BoundStatus::kConverged;
     Describe(sys, s.omega, &out);
     if (out.status == BoundStatus::kConverged && !(out.residual <= kFeasibility)) {
       out.status = BoundStatus::kFailed;
+      out.stationary = false;
       out.message += "; the point violates R = 0";
     }
     return out;

@@ -18,6 +18,7 @@ void ExpectSameSolution(const BoundSolution& a, const BoundSolution& b) {
   EXPECT_EQ(a.loss_factor, b.loss_factor);
   EXPECT_EQ(a.residual, b.residual);
   EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.stationary, b.stationary);
   EXPECT_EQ(a.message, b.message);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_EQ(a.seed, b.seed);
@@ -31,6 +32,7 @@ TEST(BoundsRecord, ReadsBackBitForBit) {
   o.check_samples = 4;
   const BoundsResult b = ComputeBounds(sys, 266.0, o);
   ASSERT_TRUE(b.IsUsable());
+  EXPECT_TRUE(b.min.stationary);
   const BoundsResult r = BoundsFromRecord(nlohmann::json::parse(BoundsRecord(b).dump()));
   EXPECT_EQ(r.freq_hz, b.freq_hz);
   ExpectSameSolution(r.min, b.min);
@@ -84,6 +86,9 @@ TEST(BoundsRecord, DamagedRecordsAreErrors) {
   j = good;
   j["max"]["alpha"] = {1.0, "x"};
   expect_error(j, "alpha");
+  j = good;
+  j["min"]["stationary"] = 1;
+  expect_error(j, "stationary");
   j = good;
   j["freq_hz"] = -1.0;
   expect_error(j, "freq_hz");

@@ -57,6 +57,10 @@ TEST_P(Ladder, RefinedBoundsMatchTheDirectSearchAtH3) {
   EXPECT_EQ(d.search_harmonics, 3);
   EXPECT_EQ(l.search_harmonics, 1);
   EXPECT_EQ(l.refinement_fallbacks, 0) << l.BriefReport();
+  // Each refined bound is a point where a run at H = 3 stopped by its test (a KKT start counts),
+  // not merely the embedded H = 1 optimum taken as a known solution.
+  EXPECT_TRUE(l.min.stationary) << l.min.message;
+  EXPECT_TRUE(l.max.stationary) << l.max.message;
   // The minimum slips at all three frequencies (H = 3 moves it), the maximum only from 266 Hz.
   ExpectSolutionAtH3(f, l.min, true);
   ExpectSolutionAtH3(f, l.max, f > 265.0);
