@@ -109,6 +109,25 @@ void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s) {
   s->regimes = Regimes(sys, s->x, omega, s->alpha);
 }
 
+void MarkUnfinishedAsBound(BoundSolution* s) {
+  s->status = BoundStatus::kConverged;
+  s->stationary = false;
+  s->message += "; its last iterate (R = 0) goes beyond every converged run";
+}
+
+bool UsableUnfinished(const HarmonicBalance& sys, double omega, const BoundSolution& failed,
+                      BoundSolution* out) {
+  if (failed.status != BoundStatus::kMaxIterations || failed.x.size() != sys.num_unknowns() ||
+      failed.alpha.size() != sys.num_alpha() || !failed.x.allFinite()) {
+    return false;
+  }
+  *out = failed;
+  Describe(sys, omega, out);  // the amplitude of a failed bound was set to NaN
+  if (!(out->residual <= kFeasibility) || !std::isfinite(out->amplitude)) return false;
+  MarkUnfinishedAsBound(out);
+  return true;
+}
+
 // Points a seed's fallback path may take. A seed is one start among several: the path that
 // works at 1103 Hz on the FE cascade (frequency continuation from 1.05 f) takes ~23 points;
 // stalled ones ran to 2000, minutes per seed. Same bounds there with 40, 100 and 2000.

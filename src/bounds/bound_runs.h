@@ -54,6 +54,15 @@ inline double RankValue(const BoundSolution& s, BoundsOptions::Objective objecti
 // Fills the derived fields of a solution (x, α set).
 void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
 
+// The last iterate of a run stopped at its iteration limit, made a (non-stationary) bound.
+void MarkUnfinishedAsBound(BoundSolution* s);
+
+// A failed bound of an OptimiseBounds result that is the feasible last iterate of a run stopped
+// at its iteration limit (kept on record where no run in its direction converged), as a usable
+// non-stationary bound in *out; false if it is none.
+bool UsableUnfinished(const HarmonicBalance& sys, double omega, const BoundSolution& failed,
+                      BoundSolution* out);
+
 // A converged harmonic-balance solution at α to start from (see bound_common.cpp); `known`, if
 // not empty, is tried first (a solution known from elsewhere: Newton keeps its branch). With
 // `alpha_start` the start may lie short of α on the α homotopy from 0 (*alpha_start its α);

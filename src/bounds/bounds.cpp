@@ -385,19 +385,20 @@ struct RunTally {
   void Finish(BoundsResult* result) {
     for (int d = 0; d < 2; ++d) {
       BoundSolution& best = d == 1 ? result->max : result->min;
-      // Only a converged bound is widened: an unfinished run alone is no bound.
-      if (!have[d] || unfinished[d].x.size() == 0 ||
-          !Beyond(unfinished[d], best, objective, d == 1)) {
+      if (unfinished[d].x.size() == 0) continue;
+      if (!have[d]) {
+        // Alone an unfinished run is no bound here, but its point stays on record (the failure
+        // kept): a caller that holds a bound already may widen it (UsableUnfinished).
+        best = unfinished[d];
         continue;
       }
+      if (!Beyond(unfinished[d], best, objective, d == 1)) continue;
       const double obj = objective == BoundsOptions::kAmplitude ? unfinished[d].amplitude
                                                                 : unfinished[d].loss_factor;
       lo[d] = std::min(lo[d], obj);
       hi[d] = std::max(hi[d], obj);
       best = unfinished[d];
-      best.status = BoundStatus::kConverged;
-      best.stationary = false;
-      best.message += "; its last iterate (R = 0) goes beyond every converged run";
+      bounds_detail::MarkUnfinishedAsBound(&best);
     }
     const double nan = std::numeric_limits<double>::quiet_NaN();
     result->spread_min = have[0] ? hi[0] - lo[0] : nan;

@@ -109,6 +109,12 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
     if (!Beats(options, b, kept[is_max], is_max)) b = kept[is_max];
     const BoundSolution& run = is_max ? fresh.max : fresh.min;
     if (!b.stationary && run.stationary && !Beats(options, b, run, is_max)) b = run;
+    // No run in this direction converged, but one stopped at its iteration limit beyond the bound.
+    BoundSolution unfinished;
+    if (bounds_detail::UsableUnfinished(system, omega, run, &unfinished) &&
+        Beats(options, unfinished, b, is_max)) {
+      b = std::move(unfinished);
+    }
     moved += Beats(options, b, before[is_max], is_max);
   }
   return moved;

@@ -166,10 +166,13 @@ BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
   AddRunCounts(again, &result);
   // Each bound: the best of the first optimisation, the restart and the sample itself.
   auto improve = [&](bool is_max, bool have_sample, const FrfPoint& sample,
-                     const Eigen::VectorXd& alpha, const BoundSolution& restarted) {
+                     const Eigen::VectorXd& alpha, BoundSolution restarted) {
     if (!have_sample) return;
     BoundSolution& bound = is_max ? result.max : result.min;
     BoundSolution best = FromSample(system, omega, sample, alpha);
+    // A restart stopped at its iteration limit still ended on a feasible point.
+    if (!restarted.IsUsable())
+      bounds_detail::UsableUnfinished(system, omega, restarted, &restarted);
     const double sign = is_max ? 1.0 : -1.0;
     if (restarted.IsUsable() && sign * bounds_detail::RankValue(restarted, options.objective) >=
                                     sign * bounds_detail::RankValue(best, options.objective)) {

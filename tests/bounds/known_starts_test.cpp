@@ -74,6 +74,34 @@ TEST(ImproveBounds, ASolutionBelowALocalMinimumLowersIt) {
 // A known solution that neither Newton nor the residual homotopy can use (its x is not a
 // number): with cold_start its α is solved by the seeds' cold routes and the run from there
 // lowers the weak minimum as above; without, it is dropped and nothing changes.
+// A run from a known solution that stops at its iteration limit, with no run in its direction
+// converging, still widens the bound held before with its feasible last iterate.
+TEST(ImproveBounds, AnUnfinishedRunBeyondTheBoundWidensIt) {
+  const std::vector<Eigen::VectorXd> seeds = DefaultAlphaSeeds(Baseline().num_alpha());
+  BoundsOptions o;
+  o.max_iterations = 1;
+  o.check_samples = 0;
+  o.alpha_seeds = {seeds[3]};  // a KKT start in both directions
+  BoundsResult r = ComputeBounds(Baseline(), kFreq, o);
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  o.alpha_seeds = {seeds[1]};  // its runs need more than one iteration
+  const BoundsResult alone = ComputeBounds(Baseline(), kFreq, o);
+  ASSERT_EQ(alone.max.status, BoundStatus::kMaxIterations) << alone.BriefReport();
+  const double y_unfinished = Baseline().Amplitude(alone.max.x);
+  ASSERT_GT(y_unfinished, r.max.amplitude * (1 + 1e-3));
+  const FrfPoint start =
+      SolveAtFrequency(Baseline(), seeds[1], kFreq, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(start.status, SolverStatus::kConverged);
+  ASSERT_LT(start.amplitude, y_unfinished);  // the run moved: its start alone would not do
+  KnownSolution k{start.x, seeds[1]};
+  k.run_min = false;
+  EXPECT_EQ(ImproveBounds(Baseline(), kFreq, o, {k}, &r), 1);
+  ASSERT_TRUE(r.max.IsUsable()) << r.max.message;
+  EXPECT_DOUBLE_EQ(r.max.amplitude, y_unfinished);
+  EXPECT_FALSE(r.max.stationary);
+  EXPECT_TRUE(r.min.stationary);
+}
+
 TEST(ImproveBounds, AnUnusableKnownSolutionIsStartedColdOrDropped) {
   double corner = 0.0;
   KnownSolution k = SmallestCorner(&corner);
