@@ -3,13 +3,14 @@
 
 Usage:
     /usr/bin/python3 scripts/plot_ladder_curve.py A/bounds.h5 LABEL_A B/bounds.h5 LABEL_B OUT.png
-        [--json OUT.json]
+        [--json OUT.json] [--ratio]
 
 Reads /bounds/{freq_hz, y_min_m, y_max_m} of two `fricrom bounds CASE --points N` runs over the
 same frequencies and draws y_min and y_max [m] of both over frequency (log scale, the peak of each
 marked), R = 1 − (y_max − y_min)/y_max below and, where both files hold /bounds/wall_s, the wall
-time of each point [s] (log scale; the curve's wall time in the legend); with --json writes the
-points (SI units).
+time of each point [s] (log scale; the curve's wall time in the legend); with --ratio a panel of
+y_max of B against A [%] (differences a log scale hides); with --json writes the points (SI
+units).
 Failed bounds are NaN in the files and gaps in the figure. Exit status 2 on files that do not
 hold curves over the same frequencies.
 """
@@ -50,9 +51,12 @@ def work():
             raise common.InputError("--json needs a file name")
         out_json = args[k + 1]
         del args[k:k + 2]
+    ratio = "--ratio" in args
+    if ratio:
+        args.remove("--ratio")
     if len(args) != 5:
-        raise common.InputError(
-            "usage: plot_ladder_curve.py A.h5 LABEL_A B.h5 LABEL_B OUT.png [--json OUT.json]")
+        raise common.InputError("usage: plot_ladder_curve.py A.h5 LABEL_A B.h5 LABEL_B OUT.png "
+                                "[--json OUT.json] [--ratio]")
     (path_a, label_a, path_b, label_b, out) = args
     common.check_output(out)
     curves = [(label_a, *read_curve(path_a)), (label_b, *read_curve(path_b))]
@@ -60,12 +64,12 @@ def work():
     if curves[1][1].shape != f.shape or not np.allclose(curves[1][1], f, rtol=1e-12):
         raise common.InputError(f"{path_a} and {path_b} are not curves over the same frequencies")
     timed = all(c[4] is not None for c in curves)
-    if timed:
-        fig, (ax, axr, axt) = plt.subplots(3, 1, figsize=(8, 8.3), sharex=True,
-                                           gridspec_kw={"height_ratios": [2.2, 1, 1]})
-    else:
-        fig, (ax, axr) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True,
-                                      gridspec_kw={"height_ratios": [2.2, 1]})
+    heights = [2.2, 1] + ([1] if ratio else []) + ([1] if timed else [])
+    fig, axes = plt.subplots(len(heights), 1, figsize=(8, 4.3 + 2.0 * (len(heights) - 1)),
+                             sharex=True, gridspec_kw={"height_ratios": heights})
+    ax, axr = axes[0], axes[1]
+    axq = axes[2] if ratio else None
+    axt = axes[-1] if timed else None
     series = {}
     for (name, _, lo, hi, wall, total), color in zip(curves, COLORS):
         r = 1 - (hi - lo) / hi
@@ -86,6 +90,12 @@ def work():
             series[name]["curve_wall_s"] = number_or_null(total)
             axt.semilogy(f, wall, "o-", color=color, ms=3, lw=1,
                          label=f"{name}: curve {total:.0f} s")
+    if ratio:
+        change = 100.0 * (curves[1][3] / curves[0][3] - 1.0)
+        axq.axhline(0.0, color="#999999", lw=0.8)
+        axq.plot(f, change, "o-", color=COLORS[1], ms=3, lw=1)
+        axq.set_ylabel(f"y_max: {label_b}\nagainst {label_a} [%]", fontsize=7)
+        axq.grid(True, lw=0.3)
     ax.set_ylabel("response amplitude, blade 2 [m]")
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=7, ncol=2, loc="lower left")
@@ -97,7 +107,7 @@ def work():
         axt.set_ylabel("wall time per point [s]")
         axt.grid(True, which="both", lw=0.3)
         axt.legend(fontsize=7)
-    (axt if timed else axr).set_xlabel("frequency [Hz]")
+    axes[-1].set_xlabel("frequency [Hz]")
     fig.suptitle(f"Bound curves: {label_a} and {label_b}", fontsize=10)
     fig.tight_layout()
     common.save_figure(fig, out)
