@@ -347,7 +347,7 @@ bool Beyond(const BoundSolution& a, const BoundSolution& b, BoundsOptions::Objec
 // the converged optima, failures and abandoned runs counted. A run stopped at its iteration limit
 // does not converge, but its last iterate satisfies R = 0 (the reduced-space runs keep every
 // iterate feasible): where it goes beyond the converged runs it becomes the bound (50-point FE
-// curve: y_max 5-6 % higher at 1074.5 and 1123.5 Hz, y_min 2.4x lower at 1084.7 Hz).
+// curve: y_max 5-7 % higher at 1074.5 and 1123.5 Hz, y_min 2x lower at 1084.7 Hz).
 struct RunTally {
   BoundsOptions::Objective objective = BoundsOptions::kAmplitude;
   bool have[2] = {false, false};
