@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -49,6 +50,14 @@ std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::Vect
 // The value bounds are ranked by: larger = more response (the maximum response minimises η).
 inline double RankValue(const BoundSolution& s, BoundsOptions::Objective objective) {
   return objective == BoundsOptions::kAmplitude ? s.amplitude : -s.loss_factor;
+}
+
+// Whether `a` lies beyond `b` in the direction of the bound (more response for the maximum) by
+// more than margin times |b|'s rank value.
+inline bool LiesBeyond(const BoundSolution& a, const BoundSolution& b,
+                       BoundsOptions::Objective objective, bool maximise_response, double margin) {
+  const double va = RankValue(a, objective), vb = RankValue(b, objective);
+  return (maximise_response ? va - vb : vb - va) > margin * std::abs(vb);
 }
 
 // Fills the derived fields of a solution (x, α set).

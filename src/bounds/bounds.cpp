@@ -339,8 +339,7 @@ constexpr double kBeyondMargin = 1e-7;
 // Whether `a` lies beyond `b` in the run's direction by more than kBeyondMargin.
 bool Beyond(const BoundSolution& a, const BoundSolution& b, BoundsOptions::Objective objective,
             bool maximise_response) {
-  const double va = RankValue(a, objective), vb = RankValue(b, objective);
-  return (maximise_response ? va - vb : vb - va) > kBeyondMargin * std::abs(vb);
+  return bounds_detail::LiesBeyond(a, b, objective, maximise_response, kBeyondMargin);
 }
 
 // Folds the runs into the bounds, in order: the best converged run per direction, the spread of

@@ -22,8 +22,7 @@ bool Beats(const BoundsOptions& options, const BoundSolution& cand, const BoundS
            bool is_max) {
   if (!cand.IsUsable()) return false;
   if (!bound.IsUsable()) return true;
-  const double sign = is_max ? 1.0 : -1.0, b = bounds_detail::RankValue(bound, options.objective);
-  return sign * (bounds_detail::RankValue(cand, options.objective) - b) > kMoveMargin * std::abs(b);
+  return bounds_detail::LiesBeyond(cand, bound, options.objective, is_max, kMoveMargin);
 }
 
 // A known solution belongs to a nearby problem (another frequency, or H = 1 embedded at H):
