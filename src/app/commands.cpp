@@ -81,45 +81,51 @@ struct FrfArgs {
   int linear_points = 400;
 };
 
-int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
-  const Case c = cargs.Load();
-  const auto t0 = std::chrono::steady_clock::now();
-  Eigen::VectorXd alpha =
-      Eigen::Map<const Eigen::VectorXd>(c.analysis.alpha.data(), c.analysis.alpha.size());
-  if (!a.alpha.empty()) {
-    const std::vector<double> al = ParseList(a.alpha, "--alpha");
-    if (static_cast<int>(al.size()) != c.model.num_alpha()) {
-      throw CLI::ValidationError("--alpha",
-                                 "expected " + std::to_string(c.model.num_alpha()) +
-                                     " values (one per α: per contact or α group), got " +
-                                     std::to_string(al.size()));
-    }
-    for (double v : al) {
-      if (!(std::abs(v) <= 1.0))
-        throw CLI::ValidationError("--alpha", "values must lie in [-1, 1]");
-    }
-    alpha = Eigen::Map<const Eigen::VectorXd>(al.data(), al.size());
+// The α of the FRF: the case's, or --alpha (one value per α, each in [-1, 1]).
+Eigen::VectorXd FrfAlpha(const Case& c, const FrfArgs& a) {
+  if (a.alpha.empty()) {
+    return Eigen::Map<const Eigen::VectorXd>(c.analysis.alpha.data(), c.analysis.alpha.size());
   }
-  const auto balance = MakeCaseBalance(c);
-  const HarmonicBalance& system = *balance;
+  const std::vector<double> al = ParseList(a.alpha, "--alpha");
+  if (static_cast<int>(al.size()) != c.model.num_alpha()) {
+    throw CLI::ValidationError("--alpha", "expected " + std::to_string(c.model.num_alpha()) +
+                                              " values (one per α: per contact or α group), got " +
+                                              std::to_string(al.size()));
+  }
+  for (double v : al) {
+    if (!(std::abs(v) <= 1.0)) throw CLI::ValidationError("--alpha", "values must lie in [-1, 1]");
+  }
+  return Eigen::Map<const Eigen::VectorXd>(al.data(), al.size());
+}
+
+struct FrfRun {
+  std::vector<FrfPoint> points;
+  json summary;
+  bool ok = true;
+  double wall_s = 0.0;
+};
+
+// Solves at the --freq list, or traces the case's range by arclength continuation.
+FrfRun SolveFrf(const Case& c, const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                const FrfArgs& a) {
+  const auto t0 = std::chrono::steady_clock::now();
   FrfOptions opt;
   opt.max_step = a.max_step;
   opt.initial_step = std::min(opt.initial_step, a.max_step);
   const bool show_progress = !a.quiet && !a.as_json && isatty(STDERR_FILENO);
-  std::vector<FrfPoint> points;
-  json summary_json;
-  bool ok = true;
+  FrfRun run;
   if (!a.freqs.empty()) {
     const std::vector<double> f = ParseList(a.freqs, "--freq");
     for (double v : f) {
       if (!(v > 0.0)) throw CLI::ValidationError("--freq", "frequencies must be > 0 Hz");
     }
-    points = SolveAtFrequencies(system, alpha, f, opt, [&](int done, int total) {
+    run.points = SolveAtFrequencies(system, alpha, f, opt, [&](int done, int total) {
       if (show_progress)
         std::cerr << "\rfrf: " << done << "/" << total << " frequencies" << std::flush;
     });
-    for (const FrfPoint& p : points) ok = ok && p.status == SolverStatus::kConverged;
-    summary_json = {{"mode", "frequencies"}};
+    for (const FrfPoint& p : run.points) run.ok = run.ok && p.status == SolverStatus::kConverged;
+    run.summary = {{"mode", "frequencies"}};
+    if (show_progress) std::cerr << "\n";
   } else {
     FrfTrace tr = TraceFrf(system, alpha, c.analysis.freq_min_hz, c.analysis.freq_max_hz, opt,
                            [&](int done, int) {
@@ -127,168 +133,192 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
                                std::cerr << "\rfrf: " << done << " points" << std::flush;
                              }
                            });
-    points = std::move(tr.points);
-    ok = tr.summary.IsSolutionUsable();
-    summary_json = {{"mode", "continuation"},
-                    {"status", ToString(tr.summary.status)},
-                    {"message", tr.summary.message},
-                    {"turning_points", tr.summary.turning_points},
-                    {"rejected_steps", tr.summary.rejected_steps},
-                    {"evaluations", tr.summary.evaluations}};
+    run.points = std::move(tr.points);
+    run.ok = tr.summary.IsSolutionUsable();
+    run.summary = {{"mode", "continuation"},
+                   {"status", ToString(tr.summary.status)},
+                   {"message", tr.summary.message},
+                   {"turning_points", tr.summary.turning_points},
+                   {"rejected_steps", tr.summary.rejected_steps},
+                   {"evaluations", tr.summary.evaluations}};
     if (!a.as_json && !a.quiet)
       std::cerr << (show_progress ? "\n" : "") << tr.summary.BriefReport() << "\n";
   }
-  if (show_progress && !a.freqs.empty()) std::cerr << "\n";
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
 
-  // Linear references over the case range (for figures and the file).
-  std::vector<double> lf(a.linear_points);
-  for (int i = 0; i < a.linear_points; ++i) {
+std::string RegimeName(const FrfPoint& p, size_t k) {
+  return k < p.regimes.size() ? ToString(p.regimes[k]) : "unknown";
+}
+
+void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& system,
+                  const Eigen::VectorXd& alpha, const FrfRun& run, int linear_points) {
+  // Linear references over the case range, for figures.
+  std::vector<double> lf(linear_points);
+  for (int i = 0; i < linear_points; ++i) {
     lf[i] = c.analysis.freq_min_hz +
-            (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (a.linear_points - 1);
+            (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (linear_points - 1);
   }
   const std::vector<double> free_amp =
       LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
   const std::vector<double> stick_amp =
       LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
+  const std::vector<FrfPoint>& points = run.points;
+  Hdf5Writer h5(path);
+  CommonAttributes(h5, c, "frf");
+  std::vector<double> f, amp;
+  std::vector<int> iters;
+  std::vector<std::string> status;
+  Eigen::MatrixXd x(points.size(), system.num_unknowns());
+  std::vector<std::string> regimes;
+  for (size_t i = 0; i < points.size(); ++i) {
+    f.push_back(points[i].freq_hz);
+    amp.push_back(points[i].amplitude);
+    iters.push_back(points[i].iterations);
+    status.push_back(ToString(points[i].status));
+    // A point that did not converge has no solution: NaN, not its last iterate.
+    if (points[i].status == SolverStatus::kConverged) {
+      x.row(i) = points[i].x.transpose();
+    } else {
+      x.row(i).setConstant(NAN);
+    }
+    for (size_t k = 0; k < c.model.contacts.size(); ++k)
+      regimes.push_back(RegimeName(points[i], k));
+  }
+  h5.Vector("frf/freq_hz", f);
+  h5.Vector("frf/amplitude_m", amp);
+  h5.Strings("frf/status", status);
+  h5.IntVector("frf/iterations", iters);
+  h5.Matrix("frf/x", x);
+  h5.Strings("frf/regimes", regimes);
+  h5.Vector("frf/alpha", alpha);
+  h5.Strings("frf/contacts", c.contact_names);
+  h5.Strings("frf/dof_names", c.model.dof_names);
+  h5.Attribute("frf", "x_layout",
+               "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
+  h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
+  std::ostringstream label;
+  label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
+  for (int i = 0; i < alpha.size(); ++i) label << (i ? ", " : "") << alpha[i];
+  label << ")";
+  h5.Attribute("frf", "label", label.str());
+  h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
+  h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
+  h5.Attribute("frf", "wall_s", run.wall_s);
+  h5.Vector("linear/freq_hz", lf);
+  h5.Vector("linear/free_amplitude_m", free_amp);
+  h5.Vector("linear/stick_amplitude_m", stick_amp);
+  h5.Commit();
+}
 
-  // Files.
+void WriteFrfCsv(const fs::path& path, const Case& c, const FrfRun& run) {
+  std::ostringstream csv;
+  csv << "# fricrom " << Version() << " frf of " << c.name << "; units: Hz, m\n";
+  csv << "freq_hz,amplitude_m,status,iterations";
+  for (const std::string& n : c.contact_names) csv << ",state_" << n;
+  csv << "\n" << std::setprecision(12);
+  for (const FrfPoint& p : run.points) {
+    csv << p.freq_hz << "," << p.amplitude << "," << ToString(p.status) << "," << p.iterations;
+    for (size_t k = 0; k < c.model.contacts.size(); ++k) csv << "," << RegimeName(p, k);
+    csv << "\n";
+  }
+  WriteTextAtomically(path, csv.str());
+}
+
+struct FrfFiles {
+  fs::path h5, csv, png;
+  bool plotted = false;
+};
+
+void PrintFrfJson(const Case& c, const Eigen::VectorXd& alpha, const FrfRun& run,
+                  const FrfFiles& files) {
+  json j;
+  j["case"] = c.name;
+  j["units"] = {{"freq", "Hz"}, {"amplitude", "m"}};
+  j["alpha"] = std::vector<double>(alpha.data(), alpha.data() + alpha.size());
+  j["harmonics"] = c.analysis.harmonics;
+  j["samples_per_period"] = c.analysis.samples_per_period;
+  j["contacts"] = c.contact_names;
+  j["summary"] = run.summary;
+  j["wall_s"] = run.wall_s;
+  json pts = json::array();
+  for (const FrfPoint& p : run.points) {
+    json s = json::array();
+    for (ContactRegime r : p.regimes) s.push_back(ToString(r));
+    pts.push_back({{"freq_hz", p.freq_hz},
+                   {"amplitude", p.amplitude},
+                   {"status", ToString(p.status)},
+                   {"iterations", p.iterations},
+                   {"states", s}});
+  }
+  j["points"] = pts;
+  j["files"] = {{"hdf5", files.h5.string()}, {"csv", files.csv.string()}};
+  if (files.plotted) j["files"]["figure"] = files.png.string();
+  std::cout << j.dump() << "\n";
+}
+
+void PrintFrfText(const Case& c, const Eigen::VectorXd& alpha, const FrfRun& run,
+                  const FrfFiles& files) {
+  const std::vector<FrfPoint>& points = run.points;
+  std::cout << "FRF of " << c.name << " (alpha =";
+  for (int i = 0; i < alpha.size(); ++i) std::cout << (i ? ", " : " ") << alpha[i];
+  std::cout << "), H = " << c.analysis.harmonics << ", " << c.analysis.samples_per_period
+            << " samples/period: " << points.size() << " points in " << std::setprecision(3)
+            << run.wall_s << " s\n";
+  double peak = NAN, fpeak = NAN;
+  for (const FrfPoint& p : points) {
+    if (p.status == SolverStatus::kConverged && !(p.amplitude <= peak)) {
+      peak = p.amplitude;
+      fpeak = p.freq_hz;
+    }
+  }
+  if (std::isnan(peak)) {
+    std::cout << "  no point converged: no peak amplitude\n";
+  } else {
+    std::cout << "  peak amplitude of " << c.model.dof_names[c.model.response_dof] << ": "
+              << std::scientific << peak << " m at " << std::fixed << std::setprecision(2) << fpeak
+              << " Hz\n";
+  }
+  if (points.size() <= 20) {
+    for (const FrfPoint& p : points) {
+      std::cout << "  " << std::fixed << std::setprecision(3) << p.freq_hz << " Hz  "
+                << std::scientific << std::setprecision(6) << p.amplitude << " m  "
+                << ToString(p.status);
+      for (ContactRegime r : p.regimes) std::cout << "  " << ToString(r);
+      std::cout << "\n";
+    }
+  }
+  std::cout << "  wrote " << files.h5.string() << ", " << files.csv.string();
+  if (files.plotted) std::cout << ", " << files.png.string();
+  std::cout << "\n";
+}
+
+int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
+  const Case c = cargs.Load();
+  const Eigen::VectorXd alpha = FrfAlpha(c, a);
+  const auto balance = MakeCaseBalance(c);
+  const FrfRun run = SolveFrf(c, *balance, alpha, a);
+
   const fs::path out_dir = a.out.empty() ? fs::path("results") / c.name : fs::path(a.out);
   fs::create_directories(out_dir);
-  const fs::path h5_path = out_dir / "frf.h5", csv_path = out_dir / "frf.csv",
-                 png_path = out_dir / "frf.png";
-  {
-    Hdf5Writer h5(h5_path);
-    CommonAttributes(h5, c, "frf");
-    std::vector<double> f, amp;
-    std::vector<int> iters;
-    std::vector<std::string> status;
-    Eigen::MatrixXd x(points.size(), system.num_unknowns());
-    std::vector<std::string> regimes;
-    for (size_t i = 0; i < points.size(); ++i) {
-      f.push_back(points[i].freq_hz);
-      amp.push_back(points[i].amplitude);
-      iters.push_back(points[i].iterations);
-      status.push_back(ToString(points[i].status));
-      // A point that did not converge has no solution: NaN, not its last iterate.
-      if (points[i].status == SolverStatus::kConverged) {
-        x.row(i) = points[i].x.transpose();
-      } else {
-        x.row(i).setConstant(NAN);
-      }
-      for (size_t k = 0; k < c.model.contacts.size(); ++k) {
-        regimes.push_back(k < points[i].regimes.size() ? ToString(points[i].regimes[k])
-                                                       : "unknown");
-      }
-    }
-    h5.Vector("frf/freq_hz", f);
-    h5.Vector("frf/amplitude_m", amp);
-    h5.Strings("frf/status", status);
-    h5.IntVector("frf/iterations", iters);
-    h5.Matrix("frf/x", x);
-    h5.Strings("frf/regimes", regimes);
-    h5.Vector("frf/alpha", alpha);
-    h5.Strings("frf/contacts", c.contact_names);
-    h5.Strings("frf/dof_names", c.model.dof_names);
-    h5.Attribute("frf", "x_layout",
-                 "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
-    h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
-    std::ostringstream label;
-    label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
-    for (int i = 0; i < alpha.size(); ++i) label << (i ? ", " : "") << alpha[i];
-    label << ")";
-    h5.Attribute("frf", "label", label.str());
-    h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
-    h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
-    h5.Attribute("frf", "wall_s", wall);
-    h5.Vector("linear/freq_hz", lf);
-    h5.Vector("linear/free_amplitude_m", free_amp);
-    h5.Vector("linear/stick_amplitude_m", stick_amp);
-    h5.Commit();
-  }
-  {
-    std::ostringstream csv;
-    csv << "# fricrom " << Version() << " frf of " << c.name << "; units: Hz, m\n";
-    csv << "freq_hz,amplitude_m,status,iterations";
-    for (const std::string& n : c.contact_names) csv << ",state_" << n;
-    csv << "\n" << std::setprecision(12);
-    for (const FrfPoint& p : points) {
-      csv << p.freq_hz << "," << p.amplitude << "," << ToString(p.status) << "," << p.iterations;
-      for (size_t k = 0; k < c.model.contacts.size(); ++k) {
-        csv << "," << (k < p.regimes.size() ? ToString(p.regimes[k]) : "unknown");
-      }
-      csv << "\n";
-    }
-    WriteTextAtomically(csv_path, csv.str());
-  }
-  bool plotted = false;
+  FrfFiles files{out_dir / "frf.h5", out_dir / "frf.csv", out_dir / "frf.png"};
+  WriteFrfHdf5(files.h5, c, *balance, alpha, run, a.linear_points);
+  WriteFrfCsv(files.csv, c, run);
   if (a.plot) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) +
-                            "/scripts/plot_frf.py' '" + h5_path.string() + "' '" +
-                            png_path.string() + "'" + (a.normalise ? " --normalise" : "") +
+                            "/scripts/plot_frf.py' '" + files.h5.string() + "' '" +
+                            files.png.string() + "'" + (a.normalise ? " --normalise" : "") +
                             " 1>&2";  // stdout is for --json
-    plotted = std::system(cmd.c_str()) == 0;
-    if (!plotted) std::cerr << "frf: figure not written (see the message above)\n";
+    files.plotted = std::system(cmd.c_str()) == 0;
+    if (!files.plotted) std::cerr << "frf: figure not written (see the message above)\n";
   }
-
   if (a.as_json) {
-    json j;
-    j["case"] = c.name;
-    j["units"] = {{"freq", "Hz"}, {"amplitude", "m"}};
-    j["alpha"] = std::vector<double>(alpha.data(), alpha.data() + alpha.size());
-    j["harmonics"] = c.analysis.harmonics;
-    j["samples_per_period"] = c.analysis.samples_per_period;
-    j["contacts"] = c.contact_names;
-    j["summary"] = summary_json;
-    j["wall_s"] = wall;
-    json pts = json::array();
-    for (const FrfPoint& p : points) {
-      json s = json::array();
-      for (ContactRegime r : p.regimes) s.push_back(ToString(r));
-      pts.push_back({{"freq_hz", p.freq_hz},
-                     {"amplitude", p.amplitude},
-                     {"status", ToString(p.status)},
-                     {"iterations", p.iterations},
-                     {"states", s}});
-    }
-    j["points"] = pts;
-    j["files"] = {{"hdf5", h5_path.string()}, {"csv", csv_path.string()}};
-    if (plotted) j["files"]["figure"] = png_path.string();
-    std::cout << j.dump() << "\n";
+    PrintFrfJson(c, alpha, run, files);
   } else if (!a.quiet) {
-    std::cout << "FRF of " << c.name << " (alpha =";
-    for (int i = 0; i < alpha.size(); ++i) std::cout << (i ? ", " : " ") << alpha[i];
-    std::cout << "), H = " << c.analysis.harmonics << ", " << c.analysis.samples_per_period
-              << " samples/period: " << points.size() << " points in " << std::setprecision(3)
-              << wall << " s\n";
-    double peak = NAN, fpeak = NAN;
-    for (const FrfPoint& p : points) {
-      if (p.status == SolverStatus::kConverged && !(p.amplitude <= peak)) {
-        peak = p.amplitude;
-        fpeak = p.freq_hz;
-      }
-    }
-    if (std::isnan(peak)) {
-      std::cout << "  no point converged: no peak amplitude\n";
-    } else {
-      std::cout << "  peak amplitude of " << c.model.dof_names[c.model.response_dof] << ": "
-                << std::scientific << peak << " m at " << std::fixed << std::setprecision(2)
-                << fpeak << " Hz\n";
-    }
-    if (points.size() <= 20) {
-      for (const FrfPoint& p : points) {
-        std::cout << "  " << std::fixed << std::setprecision(3) << p.freq_hz << " Hz  "
-                  << std::scientific << std::setprecision(6) << p.amplitude << " m  "
-                  << ToString(p.status);
-        for (ContactRegime r : p.regimes) std::cout << "  " << ToString(r);
-        std::cout << "\n";
-      }
-    }
-    std::cout << "  wrote " << h5_path.string() << ", " << csv_path.string();
-    if (plotted) std::cout << ", " << png_path.string();
-    std::cout << "\n";
+    PrintFrfText(c, alpha, run, files);
   }
-  return ok ? 0 : 1;
+  return run.ok ? 0 : 1;
 }
 
 // ---------------------------------------------------------------- case (dry run)
