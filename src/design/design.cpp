@@ -199,162 +199,205 @@ std::vector<double> NoaScanValues(const NoaOptions& options) {
   return p;
 }
 
-NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
-                 const DesignProgress& progress) {
-  std::string error;
-  if (!options.IsValid(&error)) throw std::invalid_argument(error);
-  const auto t0 = std::chrono::steady_clock::now();
-  NoaResult res;
-  const double inf = std::numeric_limits<double>::infinity();
-  auto objective_of = [&](const RobustnessPoint& pt) {
-    if (!pt.bounds.IsUsable()) return inf;
-    if (options.objective == NoaOptions::kOneMinusR) return 1.0 - pt.robustness;
+namespace {
+
+// The nested optimisation: a global scan of the parameter, then a golden-section refinement of
+// the best bracket, or the middle of a plateau of optimal values (the design with most margin).
+class NoaSolver {
+ public:
+  NoaSolver(const BalanceFactory& factory, const NoaOptions& options,
+            const DesignProgress& progress)
+      : factory_(factory), options_(options), progress_(progress) {}
+
+  NoaResult Solve() {
+    const auto t0 = std::chrono::steady_clock::now();
+    Scan();
+    const double gmin = *std::min_element(g_.begin(), g_.end());
+    if (!std::isfinite(gmin)) {
+      res_.message = "no scan point had converged bounds";
+    } else {
+      tie_ = 1e-9 + 1e-6 * std::abs(gmin);
+      const auto [best_start, best_len] = LongestRunAtMinimum(gmin);
+      const auto [p_best, g_best] =
+          best_len >= 2 ? PlateauOfScan(best_start, best_len, gmin) : Refine(best_start);
+      Report(p_best, g_best);
+    }
+    res_.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return std::move(res_);
+  }
+
+ private:
+  double ObjectiveOf(const RobustnessPoint& pt) const {
+    if (!pt.bounds.IsUsable()) return std::numeric_limits<double>::infinity();
+    if (options_.objective == NoaOptions::kOneMinusR) return 1.0 - pt.robustness;
     return pt.bounds.min.loss_factor - pt.bounds.max.loss_factor;  // η2 − η1 ≥ 0
-  };
+  }
+
   // One outer evaluation: the two inner bound problems, warm-started from the nearest
   // evaluated parameter's optimal α.
-  auto evaluate = [&](double p) {
+  double Evaluate(double p) {
     const RobustnessPoint* nearest = nullptr;
-    for (const RobustnessPoint& h : res.history) {
+    for (const RobustnessPoint& h : res_.history) {
       if (!nearest || std::abs(h.parameter - p) < std::abs(nearest->parameter - p)) nearest = &h;
     }
-    SweepOptions so = options.inner;
-    const std::unique_ptr<HarmonicBalance> balance = factory(p);
-    const HarmonicBalance& system = *balance;
-    const BoundsOptions bo =
-        WithSeeds(so.bounds, system.num_alpha(), nearest ? &nearest->bounds : nullptr);
-    const RobustnessPoint pt = ComputeRobustnessPoint(system, p, so, bo);
-    res.inner_solves += 2 * pt.bound_solves;
-    ++res.outer_iterations;
-    res.history.push_back(pt);
-    if (progress) progress(res.outer_iterations, -1);
-    return objective_of(res.history.back());
-  };
+    const std::unique_ptr<HarmonicBalance> balance = factory_(p);
+    const BoundsOptions bo = WithSeeds(options_.inner.bounds, balance->num_alpha(),
+                                       nearest ? &nearest->bounds : nullptr);
+    const RobustnessPoint pt = ComputeRobustnessPoint(*balance, p, options_.inner, bo);
+    res_.inner_solves += 2 * pt.bound_solves;
+    ++res_.outer_iterations;
+    res_.history.push_back(pt);
+    if (progress_) progress_(res_.outer_iterations, -1);
+    return ObjectiveOf(res_.history.back());
+  }
 
   // 1) Global scan: independent values, on threads or through the caller's evaluator.
-  const int n = options.scan_points;
-  const std::vector<double> p = NoaScanValues(options);
-  std::vector<double> g(n);
-  {
-    SweepOptions cold = options.inner;
+  void Scan() {
+    p_ = NoaScanValues(options_);
+    const int n = static_cast<int>(p_.size());
+    SweepOptions cold = options_.inner;
     cold.warm_start = false;
     const std::vector<RobustnessPoint> scan =
-        options.scan_evaluator ? options.scan_evaluator(p)
-                               : SweepRobustness(factory, p, cold, [&](int done, int) {
-                                   if (progress) progress(done, -1);
-                                 });
+        options_.scan_evaluator ? options_.scan_evaluator(p_)
+                                : SweepRobustness(factory_, p_, cold, [&](int done, int) {
+                                    if (progress_) progress_(done, -1);
+                                  });
     if (static_cast<int>(scan.size()) != n) {
       throw std::logic_error("RunNoa: the scan evaluator returned " + std::to_string(scan.size()) +
                              " points for " + std::to_string(n) + " values");
     }
+    g_.resize(n);
     for (int i = 0; i < n; ++i) {
-      res.history.push_back(scan[i]);
-      res.inner_solves += 2 * scan[i].bound_solves;
-      ++res.outer_iterations;
-      g[i] = objective_of(scan[i]);
+      res_.history.push_back(scan[i]);
+      res_.inner_solves += 2 * scan[i].bound_solves;
+      ++res_.outer_iterations;
+      g_[i] = ObjectiveOf(scan[i]);
     }
   }
-  const double gmin = *std::min_element(g.begin(), g.end());
-  if (!std::isfinite(gmin)) {
-    res.message = "no scan point had converged bounds";
-    res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return res;
-  }
-  // Ties at the minimum (a plateau, e.g. R = 1 over an interval): take the middle of the longest
-  // run — the design with the largest margin on both sides.
-  const double tie = 1e-9 + 1e-6 * std::abs(gmin);
-  int run_start = -1, best_start = 0, best_len = 0;
-  for (int i = 0; i <= n; ++i) {
-    const bool at_min = i < n && g[i] <= gmin + tie;
-    if (at_min && run_start < 0) run_start = i;
-    if (!at_min && run_start >= 0) {
-      if (i - run_start > best_len) {
-        best_len = i - run_start;
-        best_start = run_start;
+
+  // Ties at the minimum (a plateau, e.g. R = 1 over an interval): the longest run of scan
+  // values at the minimum, as (first index, length).
+  std::pair<int, int> LongestRunAtMinimum(double gmin) const {
+    const int n = static_cast<int>(g_.size());
+    int run_start = -1, best_start = 0, best_len = 0;
+    for (int i = 0; i <= n; ++i) {
+      const bool at_min = i < n && g_[i] <= gmin + tie_;
+      if (at_min && run_start < 0) run_start = i;
+      if (!at_min && run_start >= 0) {
+        if (i - run_start > best_len) {
+          best_len = i - run_start;
+          best_start = run_start;
+        }
+        run_start = -1;
       }
-      run_start = -1;
     }
+    return {best_start, best_len};
   }
-  double p_best, g_best;
-  if (best_len >= 2) {
-    const double lo = p[best_start], hi = p[best_start + best_len - 1];
-    p_best = 0.5 * (lo + hi);
+
+  // The middle of the longest run of optimal scan values: the largest margin on both sides.
+  std::pair<double, double> PlateauOfScan(int best_start, int best_len, double gmin) {
+    const double lo = p_[best_start], hi = p_[best_start + best_len - 1];
+    double p_best = 0.5 * (lo + hi);
     // A middle that is a scan value (an odd run) is known already.
-    const auto known = std::find(p.begin(), p.end(), p_best);
-    g_best = known != p.end() ? g[known - p.begin()] : evaluate(p_best);
-    if (!(g_best <= gmin + tie)) {  // not a true plateau: keep the best scanned point
-      p_best = p[best_start];
-      g_best = g[best_start];
+    const auto known = std::find(p_.begin(), p_.end(), p_best);
+    double g_best = known != p_.end() ? g_[known - p_.begin()] : Evaluate(p_best);
+    if (!(g_best <= gmin + tie_)) {  // not a true plateau: keep the best scanned point
+      p_best = p_[best_start];
+      g_best = g_[best_start];
     }
-    res.message = "plateau of the objective between " + std::to_string(lo) + " and " +
-                  std::to_string(hi) + "; its middle is returned";
-  } else {
-    // 2) Golden-section refinement of the bracket around the best scan point.
-    const int k = best_start;
-    double a = p[std::max(k - 1, 0)], d = p[std::min(k + 1, n - 1)];
+    res_.message = "plateau of the objective between " + std::to_string(lo) + " and " +
+                   std::to_string(hi) + "; its middle is returned";
+    return {p_best, g_best};
+  }
+
+  // 2) Golden-section refinement of the bracket around the best scan point k.
+  std::pair<double, double> Refine(int k) {
+    const int n = static_cast<int>(p_.size());
+    double a = p_[std::max(k - 1, 0)], d = p_[std::min(k + 1, n - 1)];
     double b = d - kGolden * (d - a), c = a + kGolden * (d - a);
-    double gb = evaluate(b), gc = evaluate(c);
-    while (d - a > options.parameter_tolerance) {
+    double gb = Evaluate(b), gc = Evaluate(c);
+    while (d - a > options_.parameter_tolerance) {
       if (gb <= gc) {
         d = c;
         c = b;
         gc = gb;
         b = d - kGolden * (d - a);
-        gb = evaluate(b);
+        gb = Evaluate(b);
       } else {
         a = b;
         b = c;
         gb = gc;
         c = a + kGolden * (d - a);
-        gc = evaluate(c);
+        gc = Evaluate(c);
       }
     }
-    p_best = gb <= gc ? b : c;
-    g_best = std::min(gb, gc);
-    if (g[k] < g_best) {
-      p_best = p[k];
-      g_best = g[k];
+    double p_best = gb <= gc ? b : c;
+    double g_best = std::min(gb, gc);
+    if (g_[k] < g_best) {
+      p_best = p_[k];
+      g_best = g_[k];
     }
-    // A unique response (objective 0) found inside a plateau narrower than the scan step:
-    // bisect for both edges of the plateau and return its middle, the design with most margin.
-    if (g_best <= tie) {
-      auto edge = [&](double inside, double outside) {
-        while (std::abs(outside - inside) > options.parameter_tolerance) {
-          const double mid = 0.5 * (inside + outside);
-          (evaluate(mid) <= tie ? inside : outside) = mid;
-        }
-        return inside;
-      };
-      double left = options.lower, right = options.upper;
-      for (const RobustnessPoint& h : res.history) {  // nearest evaluated points off the plateau
-        if (objective_of(h) > tie && h.parameter < p_best) left = std::max(left, h.parameter);
-        if (objective_of(h) > tie && h.parameter > p_best) right = std::min(right, h.parameter);
+    if (g_best <= tie_) NarrowPlateau(&p_best, &g_best);
+    return {p_best, g_best};
+  }
+
+  // A unique response (objective 0) found inside a plateau narrower than the scan step:
+  // bisect for both edges of the plateau and return its middle, the design with most margin.
+  void NarrowPlateau(double* p_best, double* g_best) {
+    auto edge = [&](double inside, double outside) {
+      while (std::abs(outside - inside) > options_.parameter_tolerance) {
+        const double mid = 0.5 * (inside + outside);
+        (Evaluate(mid) <= tie_ ? inside : outside) = mid;
       }
-      const double lo = left < p_best ? edge(p_best, left) : p_best;
-      const double hi = right > p_best ? edge(p_best, right) : p_best;
-      const double mid = 0.5 * (lo + hi);
-      const double g_mid = evaluate(mid);
-      if (g_mid <= tie) {
-        p_best = mid;
-        g_best = g_mid;
-        res.message = "plateau of the objective between " + std::to_string(lo) + " and " +
-                      std::to_string(hi) + "; its middle is returned";
-      }
+      return inside;
+    };
+    double left = options_.lower, right = options_.upper;
+    for (const RobustnessPoint& h : res_.history) {  // nearest evaluated points off the plateau
+      if (ObjectiveOf(h) > tie_ && h.parameter < *p_best) left = std::max(left, h.parameter);
+      if (ObjectiveOf(h) > tie_ && h.parameter > *p_best) right = std::min(right, h.parameter);
+    }
+    const double lo = left < *p_best ? edge(*p_best, left) : *p_best;
+    const double hi = right > *p_best ? edge(*p_best, right) : *p_best;
+    const double mid = 0.5 * (lo + hi);
+    const double g_mid = Evaluate(mid);
+    if (g_mid <= tie_) {
+      *p_best = mid;
+      *g_best = g_mid;
+      res_.message = "plateau of the objective between " + std::to_string(lo) + " and " +
+                     std::to_string(hi) + "; its middle is returned";
     }
   }
+
   // Report the evaluation at p_best.
-  for (const RobustnessPoint& h : res.history) {
-    if (h.parameter == p_best) {
-      res.p_opt = h.parameter;
-      res.robustness = h.robustness;
-      res.eta1 = h.bounds.max.loss_factor;
-      res.eta2 = h.bounds.min.loss_factor;
+  void Report(double p_best, double g_best) {
+    for (const RobustnessPoint& h : res_.history) {
+      if (h.parameter == p_best) {
+        res_.p_opt = h.parameter;
+        res_.robustness = h.robustness;
+        res_.eta1 = h.bounds.max.loss_factor;
+        res_.eta2 = h.bounds.min.loss_factor;
+      }
     }
+    res_.objective = g_best;
+    res_.converged = std::isfinite(g_best);
   }
-  res.objective = g_best;
-  res.converged = std::isfinite(g_best);
-  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return res;
+
+  const BalanceFactory& factory_;
+  const NoaOptions& options_;
+  const DesignProgress& progress_;
+  NoaResult res_;
+  std::vector<double> p_;  // scan values
+  std::vector<double> g_;  // objective at the scan values
+  double tie_ = 0.0;       // objective values within tie_ of the minimum count as optimal
+};
+
+}  // namespace
+
+NoaResult RunNoa(const BalanceFactory& factory, const NoaOptions& options,
+                 const DesignProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  return NoaSolver(factory, options, progress).Solve();
 }
 
 }  // namespace fricrom
