@@ -89,6 +89,165 @@ PairStiffness ReadStiffness(const Reader& rd, const toml::table& t, const std::s
   return s;
 }
 
+// One [[interfaces]] entry as read: both sides paired node to node, their face data, the
+// contact law and the α grouping.
+struct Interface {
+  std::string name;
+  Side a, b;
+  std::vector<NodePair> pairs;
+  std::map<int64_t, double> area_a, area_b;
+  std::map<int64_t, Eigen::Vector3d> normal_a, normal_b;
+  bool faces_a = false, faces_b = false;
+  PairStiffness k;
+  bool given_normal = false;
+  Eigen::Vector3d fixed_normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d slip = Eigen::Vector3d::UnitX();
+  double mu = 0, preload = 0;
+  int directions = 1;
+  std::string alpha;
+};
+
+// The node pairs (equal sets, matched by placed coordinates) and the faces' areas and normals.
+void ReadGeometry(const Reader& rd, const toml::table& t, const std::string& where,
+                  const std::vector<AssemblyBody>& bodies, Interface* f) {
+  f->a = SideOf(rd, t, where, "a", bodies);
+  f->b = SideOf(rd, t, where, "b", bodies);
+  const Side &a = f->a, &b = f->b;
+  const double tol = rd.NumberOr(t, where, "tolerance", 1e-6);
+  if (!(tol > 0)) rd.Fail(where + ".tolerance", "expected a value > 0 [m]", t.get("tolerance"));
+  try {
+    f->pairs = PairNodesByCoordinates(a.body->mesh, a.nodes, a.body->place, b.body->mesh, b.nodes,
+                                      b.body->place, tol);
+  } catch (const std::invalid_argument& e) {
+    rd.Fail(where, e.what(), &t);
+  }
+  if (f->pairs.size() != b.nodes.size()) {
+    rd.Fail(where,
+            "set '" + b.set + "' of '" + b.body->name + "' has " + std::to_string(b.nodes.size()) +
+                " nodes, '" + a.set + "' of '" + a.body->name + "' " +
+                std::to_string(a.nodes.size()) + ": node-to-node pairing needs equal sets",
+            &t);
+  }
+  const std::string scheme_name = rd.StringOr(t, where, "area_scheme", "subdivision");
+  if (scheme_name != "subdivision" && scheme_name != "consistent") {
+    rd.Fail(where + ".area_scheme", "expected \"subdivision\" or \"consistent\"",
+            t.get("area_scheme"));
+  }
+  const NodalAreaScheme scheme =
+      scheme_name == "consistent" ? NodalAreaScheme::kConsistent : NodalAreaScheme::kSubdivision;
+  try {
+    f->faces_a = FaceData(a, scheme, &f->area_a, &f->normal_a);
+    f->faces_b = FaceData(b, scheme, &f->area_b, &f->normal_b);
+  } catch (const std::invalid_argument& e) {
+    rd.Fail(where, e.what(), &t);
+  }
+}
+
+// Stiffness, normal, slip direction, friction, preload, tangential directions and α grouping.
+void ReadLaw(const Reader& rd, const toml::table& t, const std::string& where, Interface* f) {
+  f->k = ReadStiffness(rd, t, where);
+  const bool faces = f->faces_a || f->faces_b;
+  if (f->k.per_area && !faces) {
+    rd.Fail(where,
+            "stiffness per area needs the faces of one side: give its body a mesh deck "
+            "(mesh = \"deck.inp\" with the elements)",
+            &t);
+  }
+  f->given_normal = t.get("normal") != nullptr;
+  if (!f->given_normal && !faces) {
+    rd.Fail(where,
+            "no face geometry to take the normal from: give normal = [x, y, z] (from A "
+            "into B) or a mesh deck for one body",
+            &t);
+  }
+  if (f->given_normal) {
+    f->fixed_normal = Vector3(rd, t, where, "normal");
+    if (!(f->fixed_normal.norm() > 0)) rd.Fail(where + ".normal", "expected a non-zero vector");
+    f->fixed_normal.normalize();
+  }
+  if (t.get("slip_direction")) f->slip = Vector3(rd, t, where, "slip_direction");
+  f->mu = rd.NonNegative(t, where, "mu");
+  f->preload = rd.NonNegative(t, where, "normal_preload", 0.0);
+  const double nd = rd.NumberOr(t, where, "tangential_directions", 1.0);
+  if (nd != 1.0 && nd != 2.0) {
+    rd.Fail(where + ".tangential_directions",
+            "expected 1 (the slip direction) or 2 (slip direction and normal x slip direction)",
+            t.get("tangential_directions"));
+  }
+  f->directions = static_cast<int>(nd);
+  f->alpha = rd.StringOr(t, where, "alpha", "pair");
+  if (f->alpha != "pair" && f->alpha != "interface") {
+    rd.Fail(where + ".alpha", "expected \"pair\" (one α per node pair) or \"interface\"",
+            t.get("alpha"));
+  }
+}
+
+void PushContact(const Interface& f, const NodePair& p, Contact c, Case* cs) {
+  cs->contact_names.push_back(c.name);
+  cs->model.contacts.push_back(std::move(c));
+  const int nc = static_cast<int>(cs->model.contacts.size());
+  cs->contact_positions.conservativeResize(3, nc);
+  cs->contact_positions.col(nc - 1) = f.a.body->PlacedXyz(p.node_a);
+  cs->contact_interface.push_back(static_cast<int>(cs->interface_names.size()));
+}
+
+// One contact per node pair (two with two tangential directions); returns the faces' area.
+double AddContacts(const Interface& f, Case* cs) {
+  double area_sum = 0;
+  for (const NodePair& p : f.pairs) {
+    Contact c;
+    c.name = f.name + "." + std::to_string(p.node_a);
+    // Normal from A into B: A's outward normal, else minus B's.
+    Eigen::Vector3d n = f.fixed_normal;
+    if (!f.given_normal)
+      n = f.faces_a ? f.normal_a.at(p.node_a) : Eigen::Vector3d(-f.normal_b.at(p.node_b));
+    const ContactFrame frame = MakeContactFrame(n, f.slip);
+    c.normal = frame.normal;
+    c.tangent = frame.tangent1;
+    const double area =
+        f.faces_a ? f.area_a.at(p.node_a) : (f.faces_b ? f.area_b.at(p.node_b) : 1.0);
+    area_sum += area;
+    c.kn = f.k.per_area ? f.k.kn * area : f.k.kn;
+    c.kt = f.k.per_area ? f.k.kt * area : f.k.kt;
+    c.mu = f.mu;
+    c.normal_preload = f.preload;
+    for (int d = 1; d <= 3; ++d) {
+      c.dofs_a.push_back(f.a.body->Dof(p.node_a, d));
+      c.dofs_b.push_back(f.b.body->Dof(p.node_b, d));
+    }
+    if (f.directions == 2) {
+      // Two 1D laws sharing the pair's normal gap, each limited by μ × the pair's whole normal
+      // load: halves of kn and the preload with 2μ give both (normal force summed, T_i ≤ μN).
+      Contact c2 = c;
+      c.name += ".t1";
+      c2.name += ".t2";
+      c2.tangent = frame.tangent2;
+      for (Contact* d : {&c, &c2}) {
+        d->kn *= 0.5;
+        d->normal_preload *= 0.5;
+        d->mu *= 2.0;
+      }
+      PushContact(f, p, std::move(c), cs);
+      c = std::move(c2);
+    }
+    PushContact(f, p, std::move(c), cs);
+  }
+  return area_sum;
+}
+
+// α groups: per contact, or per interface and direction.
+void AddAlphaGroups(const Interface& f, std::vector<int>* groups, Case* cs) {
+  const int next = groups->empty() ? 0 : groups->back() + 1;
+  const int next_interface = cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1;
+  const bool per_interface = f.alpha == "interface";
+  for (size_t p = 0; p < f.pairs.size(); ++p) {
+    for (int d = 0; d < f.directions; ++d) {
+      groups->push_back(per_interface ? next + d : next + static_cast<int>(p) * f.directions + d);
+      if (!per_interface || p == 0) cs->alpha_interface.push_back(next_interface + d);
+    }
+  }
+}
+
 }  // namespace
 
 void ReadInterfaces(const Reader& rd, const toml::table& root,
@@ -106,142 +265,22 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
         t, where,
         {"name", "a", "b", "tolerance", "kn", "kt", "kn_per_area", "kt_per_area", "mu", "normal",
          "slip_direction", "tangential_directions", "alpha", "area_scheme", "normal_preload"});
-    const std::string name = rd.String(t, where, "name");
-    const Side a = SideOf(rd, t, where, "a", bodies), b = SideOf(rd, t, where, "b", bodies);
-    const double tol = rd.NumberOr(t, where, "tolerance", 1e-6);
-    if (!(tol > 0)) rd.Fail(where + ".tolerance", "expected a value > 0 [m]", t.get("tolerance"));
-    std::vector<NodePair> pairs;
-    try {
-      pairs = PairNodesByCoordinates(a.body->mesh, a.nodes, a.body->place, b.body->mesh, b.nodes,
-                                     b.body->place, tol);
-    } catch (const std::invalid_argument& e) {
-      rd.Fail(where, e.what(), &t);
-    }
-    if (pairs.size() != b.nodes.size()) {
-      rd.Fail(where,
-              "set '" + b.set + "' of '" + b.body->name + "' has " +
-                  std::to_string(b.nodes.size()) + " nodes, '" + a.set + "' of '" + a.body->name +
-                  "' " + std::to_string(a.nodes.size()) + ": node-to-node pairing needs equal sets",
-              &t);
-    }
-    const std::string scheme_name = rd.StringOr(t, where, "area_scheme", "subdivision");
-    if (scheme_name != "subdivision" && scheme_name != "consistent") {
-      rd.Fail(where + ".area_scheme", "expected \"subdivision\" or \"consistent\"",
-              t.get("area_scheme"));
-    }
-    const NodalAreaScheme scheme =
-        scheme_name == "consistent" ? NodalAreaScheme::kConsistent : NodalAreaScheme::kSubdivision;
-    std::map<int64_t, double> area_a, area_b;
-    std::map<int64_t, Eigen::Vector3d> normal_a, normal_b;
-    bool faces_a = false, faces_b = false;
-    try {
-      faces_a = FaceData(a, scheme, &area_a, &normal_a);
-      faces_b = FaceData(b, scheme, &area_b, &normal_b);
-    } catch (const std::invalid_argument& e) {
-      rd.Fail(where, e.what(), &t);
-    }
-    const PairStiffness k = ReadStiffness(rd, t, where);
-    if (k.per_area && !faces_a && !faces_b) {
-      rd.Fail(where,
-              "stiffness per area needs the faces of one side: give its body a mesh deck "
-              "(mesh = \"deck.inp\" with the elements)",
-              &t);
-    }
-    const bool given_normal = t.get("normal") != nullptr;
-    if (!given_normal && !faces_a && !faces_b) {
-      rd.Fail(where,
-              "no face geometry to take the normal from: give normal = [x, y, z] (from A "
-              "into B) or a mesh deck for one body",
-              &t);
-    }
-    Eigen::Vector3d fixed_normal = Eigen::Vector3d::Zero();
-    if (given_normal) {
-      fixed_normal = Vector3(rd, t, where, "normal");
-      if (!(fixed_normal.norm() > 0)) rd.Fail(where + ".normal", "expected a non-zero vector");
-      fixed_normal.normalize();
-    }
-    const Eigen::Vector3d slip = t.get("slip_direction") ? Vector3(rd, t, where, "slip_direction")
-                                                         : Eigen::Vector3d::UnitX();
-    const double mu = rd.NonNegative(t, where, "mu");
-    const double preload = rd.NonNegative(t, where, "normal_preload", 0.0);
-    const double nd = rd.NumberOr(t, where, "tangential_directions", 1.0);
-    if (nd != 1.0 && nd != 2.0) {
-      rd.Fail(where + ".tangential_directions",
-              "expected 1 (the slip direction) or 2 (slip direction and normal x slip direction)",
-              t.get("tangential_directions"));
-    }
-    const int directions = static_cast<int>(nd);
-    const std::string alpha = rd.StringOr(t, where, "alpha", "pair");
-    if (alpha != "pair" && alpha != "interface") {
-      rd.Fail(where + ".alpha", "expected \"pair\" (one α per node pair) or \"interface\"",
-              t.get("alpha"));
-    }
-    double area_sum = 0;
+    Interface f;
+    f.name = rd.String(t, where, "name");
+    ReadGeometry(rd, t, where, bodies, &f);
+    ReadLaw(rd, t, where, &f);
     const int first = static_cast<int>(cs->model.contacts.size());
-    for (const NodePair& p : pairs) {
-      Contact c;
-      c.name = name + "." + std::to_string(p.node_a);
-      // Normal from A into B: A's outward normal, else minus B's.
-      Eigen::Vector3d n = fixed_normal;
-      if (!given_normal)
-        n = faces_a ? normal_a.at(p.node_a) : Eigen::Vector3d(-normal_b.at(p.node_b));
-      const ContactFrame frame = MakeContactFrame(n, slip);
-      c.normal = frame.normal;
-      c.tangent = frame.tangent1;
-      const double area = faces_a ? area_a.at(p.node_a) : (faces_b ? area_b.at(p.node_b) : 1.0);
-      area_sum += area;
-      c.kn = k.per_area ? k.kn * area : k.kn;
-      c.kt = k.per_area ? k.kt * area : k.kt;
-      c.mu = mu;
-      c.normal_preload = preload;
-      for (int d = 1; d <= 3; ++d) {
-        c.dofs_a.push_back(a.body->Dof(p.node_a, d));
-        c.dofs_b.push_back(b.body->Dof(p.node_b, d));
-      }
-      if (directions == 2) {
-        // Two 1D laws sharing the pair's normal gap, each limited by μ × the pair's whole normal
-        // load: halves of kn and the preload with 2μ give both (normal force summed, T_i ≤ μN).
-        Contact c2 = c;
-        c.name += ".t1";
-        c2.name += ".t2";
-        c2.tangent = frame.tangent2;
-        for (Contact* d : {&c, &c2}) {
-          d->kn *= 0.5;
-          d->normal_preload *= 0.5;
-          d->mu *= 2.0;
-        }
-        cs->contact_names.push_back(c.name);
-        cs->model.contacts.push_back(std::move(c));
-        c = std::move(c2);
-      }
-      cs->contact_names.push_back(c.name);
-      cs->model.contacts.push_back(std::move(c));
-      const int nc = static_cast<int>(cs->model.contacts.size());
-      cs->contact_positions.conservativeResize(3, nc);
-      for (int k = static_cast<int>(cs->contact_interface.size()); k < nc; ++k) {
-        cs->contact_positions.col(k) = a.body->PlacedXyz(p.node_a);
-        cs->contact_interface.push_back(static_cast<int>(cs->interface_names.size()));
-      }
-    }
-    cs->interface_names.push_back(name);
-    // α groups: per contact, or per interface and direction.
-    const int next = groups.empty() ? 0 : groups.back() + 1;
-    const int next_interface = cs->alpha_interface.empty() ? 0 : cs->alpha_interface.back() + 1;
-    for (size_t p = 0; p < pairs.size(); ++p) {
-      for (int d = 0; d < directions; ++d) {
-        groups.push_back(alpha == "interface" ? next + d
-                                              : next + static_cast<int>(p) * directions + d);
-        if (alpha != "interface" || p == 0) cs->alpha_interface.push_back(next_interface + d);
-      }
-    }
-    grouped = grouped || (alpha == "interface" && pairs.size() > 1);
-    toml::table r{{"name", name},
-                  {"pairs", static_cast<int64_t>(pairs.size())},
-                  {"alpha", alpha},
-                  {"mu", mu},
-                  {"tangential_directions", static_cast<int64_t>(directions)},
+    const double area_sum = AddContacts(f, cs);
+    cs->interface_names.push_back(f.name);
+    AddAlphaGroups(f, &groups, cs);
+    grouped = grouped || (f.alpha == "interface" && f.pairs.size() > 1);
+    toml::table r{{"name", f.name},
+                  {"pairs", static_cast<int64_t>(f.pairs.size())},
+                  {"alpha", f.alpha},
+                  {"mu", f.mu},
+                  {"tangential_directions", static_cast<int64_t>(f.directions)},
                   {"first_contact", static_cast<int64_t>(first)}};
-    if (faces_a || faces_b) r.insert("face_area_m2", area_sum);
+    if (f.faces_a || f.faces_b) r.insert("face_area_m2", area_sum);
     resolved->push_back(std::move(r));
   }
   if (grouped) cs->model.alpha_group = std::move(groups);
