@@ -77,6 +77,193 @@ std::vector<int> DearestFirst(const std::vector<BoundsResult>& by) {
   return order;
 }
 
+using Unit = std::function<std::string(int)>;
+
+// The bound curve as units of work, stage after stage: pass 1 (anchors), the continuations
+// between anchors, pass 2 from the neighbours' optima, the harmonic ladder's refinement.
+class CurveUnits {
+ public:
+  CurveUnits(const HarmonicBalance& system, const BalanceMaker& make_balance,
+             const std::vector<double>& freqs, const BoundCurveOptions& options)
+      : freqs_(freqs),
+        options_(options),
+        n_(static_cast<int>(freqs.size())),
+        ranks_(MpiSize() > 1),
+        two_passes_(options.warm_start && n_ > 1),
+        anchors_(CurveAnchors(n_, options.anchor_every)),
+        chains_(CurveChains(anchors_)),
+        pool_(system, make_balance),
+        // On the harmonic ladder the passes run at H = 1 (`search_`) and a last stage refines
+        // each point at H from its H = 1 optima (BoundCurveOptions, design.h).
+        ladder_(UsesHarmonicLadder(system, options.bounds)),
+        search_(options.bounds),
+        pass1_(n_),
+        every_(n_) {
+    search_.search_harmonics = 0;
+    std::iota(every_.begin(), every_.end(), 0);
+  }
+
+  // A worker rank: units in, records out, stage after stage as rank 0 runs them.
+  CurveUnitsRun RunAsWorker() {
+    DistributeUnits({}, first_, {});
+    if (!chains_.empty()) {
+      Share(anchors_, &pass1_);
+      DistributeUnits({}, chain_, {});
+    }
+    if (two_passes_) {
+      Share(every_, &pass1_);
+      DistributeUnits({}, second_, {});
+    }
+    if (ladder_) {
+      pass2_.resize(n_);
+      Share(every_, &pass2_);
+      DistributeUnits({}, refine_, {});
+    }
+    CurveUnitsRun run;
+    run.worker = true;
+    return run;
+  }
+
+  // Rank 0 (or the only one): every stage through the journal, which keeps pass 1 at i, pass 2
+  // at n + i, chain c at 2n + c, the ladder's refinement at 2n + chains + i.
+  CurveUnitsRun Run(RunJournal* journal) {
+    journal_ = journal;
+    RunStage(0, anchors_, first_, "frequencies");
+    for (int i : anchors_) pass1_[i] = BoundsFromRecord(journal_->finished().at(i));
+    if (!chains_.empty()) Continue();
+    if (two_passes_) {
+      if (ranks_) Share(every_, &pass1_);
+      // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long),
+      // so that no worker starts a long point while the others run out of work. The curve does
+      // not depend on the order.
+      RunStage(n_, DearestFirst(pass1_), second_, "neighbour starts");
+      run_.points = Read(n_);
+    } else {
+      run_.points = pass1_;
+    }
+    if (ladder_) {
+      pass2_ = run_.points;
+      if (ranks_) Share(every_, &pass2_);
+      const int offset = 2 * n_ + static_cast<int>(chains_.size());
+      // Dearest first again, by the H = 1 passes' time.
+      RunStage(offset, DearestFirst(pass2_), refine_, "harmonic refinement");
+      run_.points = Read(offset);
+    }
+    return std::move(run_);
+  }
+
+ private:
+  const HarmonicBalance& AtSearch(const BalancePool::Lease& lease) const {
+    return SearchBalance(lease.get(), options_.bounds);
+  }
+
+  std::vector<BoundsResult> Read(int offset) const {
+    std::vector<BoundsResult> out(n_);
+    for (int i = 0; i < n_; ++i) out[i] = BoundsFromRecord(journal_->finished().at(offset + i));
+    return out;
+  }
+
+  // The continuations from the anchors, merged into pass 1.
+  void Continue() {
+    if (ranks_) Share(anchors_, &pass1_);
+    std::vector<int> chain_ids(chains_.size());
+    std::iota(chain_ids.begin(), chain_ids.end(), 0);
+    RunStage(2 * n_, chain_ids, chain_, "continuations");
+    std::vector<std::vector<BoundsResult>> results(chains_.size());
+    for (size_t c = 0; c < chains_.size(); ++c) {
+      for (const nlohmann::json& r : journal_->finished().at(2 * n_ + static_cast<int>(c))) {
+        results[c].push_back(BoundsFromRecord(r));
+      }
+    }
+    MergeChains(chains_, results, search_.objective, &pass1_);
+  }
+
+  // Every rank holds the points `ids` of `stage` before the next stage (root broadcasts them).
+  void Share(const std::vector<int>& ids, std::vector<BoundsResult>* stage) const {
+    nlohmann::json all = nlohmann::json::array();
+    if (MpiRank() == 0) {
+      for (int i : ids) all.push_back(BoundsRecord((*stage)[i]));
+    }
+    all = nlohmann::json::parse(BroadcastText(all.dump()));
+    for (size_t k = 0; k < ids.size(); ++k) (*stage)[ids[k]] = BoundsFromRecord(all.at(k));
+  }
+
+  // The units `ids` of one stage not in the journal yet, on threads or over the ranks.
+  void RunStage(int offset, const std::vector<int>& ids, const Unit& unit,
+                const std::string& stage) {
+    std::vector<int> pending;
+    for (int i : ids) {
+      if (journal_->finished().count(offset + i) == 0) pending.push_back(i);
+    }
+    const int total = static_cast<int>(ids.size());
+    int done = total - static_cast<int>(pending.size());
+    run_.resumed += done;
+    // The stage's name shows at its start: a curve of one point (bounds --freq) would otherwise
+    // show nothing during a minutes-long refinement.
+    if (options_.progress) options_.progress(stage, done, total);
+    const auto record = [&](int i, const std::string& text) {
+      journal_->Record(offset + i, nlohmann::json::parse(text));
+      ++run_.computed;
+      if (options_.progress) options_.progress(stage, ++done, total);
+    };
+    if (ranks_) {
+      DistributeUnits(pending, unit, record);
+      return;
+    }
+    std::map<int, std::string> texts;
+    std::mutex lock;
+    RunWorkUnits(
+        pending, WorkerThreads(options_.threads, total),
+        [&](int i) {
+          std::string t = unit(i);
+          const std::lock_guard<std::mutex> g(lock);
+          texts[i] = std::move(t);
+        },
+        [&](int i) { record(i, texts.at(i)); });
+  }
+
+  const std::vector<double>& freqs_;
+  const BoundCurveOptions& options_;
+  const int n_;
+  const bool ranks_;
+  const bool two_passes_;
+  const std::vector<int> anchors_;
+  const std::vector<CurveChain> chains_;
+  BalancePool pool_;
+  const bool ladder_;
+  BoundsOptions search_;
+  std::vector<BoundsResult> pass1_;  // read back from records on every rank before pass 2
+  std::vector<BoundsResult> pass2_;  // the same before the refinement (ladder)
+  std::vector<int> every_;
+  RunJournal* journal_ = nullptr;
+  CurveUnitsRun run_;
+
+  // The units of each stage: unit i is point i (chain c for the continuations), as a record.
+  const Unit first_ = [this](int i) {
+    const BalancePool::Lease lease = pool_.Borrow();
+    return BoundsRecord(ComputeBounds(AtSearch(lease), freqs_[i], search_)).dump();
+  };
+  const Unit chain_ = [this](int c) {
+    std::vector<double> f;
+    for (int i : chains_[c].points) f.push_back(freqs_[i]);
+    const BalancePool::Lease lease = pool_.Borrow();
+    nlohmann::json records = nlohmann::json::array();
+    for (const BoundsResult& r :
+         ContinueBounds(AtSearch(lease), pass1_[chains_[c].from], f, search_)) {
+      records.push_back(BoundsRecord(r));
+    }
+    return records.dump();
+  };
+  const Unit second_ = [this](int i) {
+    const BalancePool::Lease lease = pool_.Borrow();
+    return BoundsRecord(RefineFromNeighbours(AtSearch(lease), pass1_, i, search_)).dump();
+  };
+  const Unit refine_ = [this](int i) {
+    const BalancePool::Lease lease = pool_.Borrow();
+    return BoundsRecord(RefineBoundsAtHarmonics(lease.get(), pass2_[i], options_.bounds)).dump();
+  };
+};
+
 }  // namespace
 
 CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::json& header,
@@ -84,147 +271,10 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
                             const BalanceMaker& make_balance, const std::vector<double>& freqs,
                             const BoundCurveOptions& options,
                             const std::function<void(const CurveUnitsRun&)>& write_files) {
-  using nlohmann::json;
-  CurveUnitsRun run;
-  const int n = static_cast<int>(freqs.size());
-  const bool ranks = MpiSize() > 1;
-  const bool two_passes = options.warm_start && n > 1;
-  const std::vector<int> anchors = CurveAnchors(n, options.anchor_every);
-  const std::vector<CurveChain> chains = CurveChains(anchors);
-  std::vector<int> chain_ids(chains.size());
-  std::iota(chain_ids.begin(), chain_ids.end(), 0);
-  BalancePool pool(system, make_balance);
-  // On the harmonic ladder the passes run at H = 1 (`search`) and a last stage refines each
-  // point at H from its H = 1 optima (BoundCurveOptions, design.h).
-  const bool ladder = UsesHarmonicLadder(system, options.bounds);
-  BoundsOptions search = options.bounds;
-  search.search_harmonics = 0;
-  const auto at_search = [&](const BalancePool::Lease& lease) -> const HarmonicBalance& {
-    return SearchBalance(lease.get(), options.bounds);
-  };
-  std::vector<BoundsResult> pass1(n);  // read back from records on every rank before pass 2
-  std::vector<BoundsResult> pass2;     // the same before the refinement (ladder)
-  const std::function<std::string(int)> first = [&](int i) {
-    const BalancePool::Lease lease = pool.Borrow();
-    return BoundsRecord(ComputeBounds(at_search(lease), freqs[i], search)).dump();
-  };
-  const std::function<std::string(int)> chain = [&](int c) {
-    std::vector<double> f;
-    for (int i : chains[c].points) f.push_back(freqs[i]);
-    const BalancePool::Lease lease = pool.Borrow();
-    json records = json::array();
-    for (const BoundsResult& r :
-         ContinueBounds(at_search(lease), pass1[chains[c].from], f, search)) {
-      records.push_back(BoundsRecord(r));
-    }
-    return records.dump();
-  };
-  const std::function<std::string(int)> second = [&](int i) {
-    const BalancePool::Lease lease = pool.Borrow();
-    return BoundsRecord(RefineFromNeighbours(at_search(lease), pass1, i, search)).dump();
-  };
-  const std::function<std::string(int)> refine = [&](int i) {
-    const BalancePool::Lease lease = pool.Borrow();
-    return BoundsRecord(RefineBoundsAtHarmonics(lease.get(), pass2[i], options.bounds)).dump();
-  };
-  // Every rank holds the points `ids` of `stage` before the next stage (root broadcasts them).
-  const auto share = [&](const std::vector<int>& ids, std::vector<BoundsResult>* stage) {
-    json all = json::array();
-    if (MpiRank() == 0) {
-      for (int i : ids) all.push_back(BoundsRecord((*stage)[i]));
-    }
-    all = json::parse(BroadcastText(all.dump()));
-    for (size_t k = 0; k < ids.size(); ++k) (*stage)[ids[k]] = BoundsFromRecord(all.at(k));
-  };
-  std::vector<int> every(n);
-  std::iota(every.begin(), every.end(), 0);
-  if (ranks && MpiRank() != 0) {  // a worker rank: units in, records out
-    DistributeUnits({}, first, {});
-    if (!chains.empty()) {
-      share(anchors, &pass1);
-      DistributeUnits({}, chain, {});
-    }
-    if (two_passes) {
-      share(every, &pass1);
-      DistributeUnits({}, second, {});
-    }
-    if (ladder) {
-      pass2.resize(n);
-      share(every, &pass2);
-      DistributeUnits({}, refine, {});
-    }
-    run.worker = true;
-    return run;
-  }
+  CurveUnits units(system, make_balance, freqs, options);
+  if (MpiSize() > 1 && MpiRank() != 0) return units.RunAsWorker();
   RunJournal journal(dir, "bounds", header, resume);
-  // Journal keys: pass 1 at i, pass 2 at n + i, chain c at 2n + c, the ladder's refinement at
-  // 2n + chains + i.
-  const auto run_pass = [&](int offset, const std::vector<int>& ids,
-                            const std::function<std::string(int)>& unit, const std::string& stage) {
-    std::vector<int> pending;
-    for (int i : ids) {
-      if (journal.finished().count(offset + i) == 0) pending.push_back(i);
-    }
-    const int total = static_cast<int>(ids.size());
-    int done = total - static_cast<int>(pending.size());
-    run.resumed += done;
-    // The stage's name shows at its start: a curve of one point (bounds --freq) would otherwise
-    // show nothing during a minutes-long refinement.
-    if (options.progress) options.progress(stage, done, total);
-    const auto record = [&](int i, const std::string& text) {
-      journal.Record(offset + i, json::parse(text));
-      ++run.computed;
-      if (options.progress) options.progress(stage, ++done, total);
-    };
-    if (ranks) {
-      DistributeUnits(pending, unit, record);
-    } else {
-      std::map<int, std::string> texts;
-      std::mutex lock;
-      RunWorkUnits(
-          pending, WorkerThreads(options.threads, total),
-          [&](int i) {
-            std::string t = unit(i);
-            const std::lock_guard<std::mutex> g(lock);
-            texts[i] = std::move(t);
-          },
-          [&](int i) { record(i, texts.at(i)); });
-    }
-  };
-  run_pass(0, anchors, first, "frequencies");
-  for (int i : anchors) pass1[i] = BoundsFromRecord(journal.finished().at(i));
-  if (!chains.empty()) {
-    if (ranks) share(anchors, &pass1);
-    run_pass(2 * n, chain_ids, chain, "continuations");
-    std::vector<std::vector<BoundsResult>> results(chains.size());
-    for (size_t c = 0; c < chains.size(); ++c) {
-      for (const json& r : journal.finished().at(2 * n + static_cast<int>(c))) {
-        results[c].push_back(BoundsFromRecord(r));
-      }
-    }
-    MergeChains(chains, results, search.objective, &pass1);
-  }
-  if (two_passes) {
-    if (ranks) share(every, &pass1);
-    // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long), so
-    // that no worker starts a long point while the others run out of work. The curve does not
-    // depend on the order.
-    run_pass(n, DearestFirst(pass1), second, "neighbour starts");
-    run.points.resize(n);
-    for (int i = 0; i < n; ++i) run.points[i] = BoundsFromRecord(journal.finished().at(n + i));
-  } else {
-    run.points = pass1;
-  }
-  if (ladder) {
-    pass2 = run.points;
-    if (ranks) share(every, &pass2);
-    const int offset = 2 * n + static_cast<int>(chains.size());
-    // Dearest first again, by the H = 1 passes' time.
-    run_pass(offset, DearestFirst(pass2), refine, "harmonic refinement");
-    for (int i = 0; i < n; ++i) {
-      run.points[i] = BoundsFromRecord(journal.finished().at(offset + i));
-    }
-  }
+  const CurveUnitsRun run = units.Run(&journal);
   write_files(run);
   journal.Complete();
   return run;
