@@ -56,146 +56,153 @@ void design_detail::Plot(const std::string& script, const std::vector<std::strin
 DesignCommands::DesignCommands() : state_(std::make_unique<State>()) {}
 DesignCommands::~DesignCommands() = default;
 
-void DesignCommands::Register(CLI::App& app) {
-  State& s = *state_;
-  auto common = [&](CLI::App* cmd) {
-    cmd->add_option("--seeds", s.seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
-    cmd->add_option("--objective", s.objective,
-                    "Bound objective: amplitude (default) or loss-factor")
-        ->check(CLI::IsMember({"amplitude", "loss-factor"}));
-    cmd->add_option("--method", s.method,
-                    "Bound optimiser: reduced (projected gradient over alpha, Newton + adjoint; "
-                    "default), ipopt (full space [x, alpha] with R = 0) or both (best of the two)")
-        ->check(CLI::IsMember({"reduced", "ipopt", "both"}));
-    cmd->add_flag("--interface-seeds", s.interface_seeds,
-                  "Add two alpha seeds per contact interface (+1 on it and -1 elsewhere, and the "
-                  "opposite; per contact on lumped cases)");
-    cmd->add_option("--random-seeds", s.random_seeds,
-                    "Add this many random alpha seeds, uniform in [-1, 1] (fixed generator seed)")
-        ->check(CLI::Range(0, 100000));
-    cmd->add_option("--check-samples", s.check_samples,
-                    "Random alpha solves that check (and improve) each bound; 0: no check")
-        ->check(CLI::Range(0, 1000000));
-    cmd->add_option("--search-harmonics", s.search_harmonics,
-                    "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
-                    "optimum at H, 0 searches at H (default: the case's "
-                    "analysis.search_harmonics)")
-        ->check(CLI::Range(0, 1));
-    cmd->add_option("--out", s.out, "Output directory (default results/<case>/<command>)");
-    cmd->add_flag("--json", s.as_json, "Print one JSON object on stdout");
-    cmd->add_flag("--quiet", s.quiet, "Print nothing but errors");
-  };
-  s.bounds = app.add_subcommand("bounds", "Minimum and maximum response over alpha, R");
-  s.bounds_case.Register(s.bounds);
-  common(s.bounds);
-  s.bounds
-      ->add_option("--freq", s.freq, "Single frequency [Hz] (default: a curve over the case range)")
+void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
+  cmd->add_option("--seeds", seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
+  cmd->add_option("--objective", objective, "Bound objective: amplitude (default) or loss-factor")
+      ->check(CLI::IsMember({"amplitude", "loss-factor"}));
+  cmd->add_option("--method", method,
+                  "Bound optimiser: reduced (projected gradient over alpha, Newton + adjoint; "
+                  "default), ipopt (full space [x, alpha] with R = 0) or both (best of the two)")
+      ->check(CLI::IsMember({"reduced", "ipopt", "both"}));
+  cmd->add_flag("--interface-seeds", interface_seeds,
+                "Add two alpha seeds per contact interface (+1 on it and -1 elsewhere, and the "
+                "opposite; per contact on lumped cases)");
+  cmd->add_option("--random-seeds", random_seeds,
+                  "Add this many random alpha seeds, uniform in [-1, 1] (fixed generator seed)")
+      ->check(CLI::Range(0, 100000));
+  cmd->add_option("--check-samples", check_samples,
+                  "Random alpha solves that check (and improve) each bound; 0: no check")
+      ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--search-harmonics", search_harmonics,
+                  "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
+                  "optimum at H, 0 searches at H (default: the case's "
+                  "analysis.search_harmonics)")
+      ->check(CLI::Range(0, 1));
+  cmd->add_option("--out", out, "Output directory (default results/<case>/<command>)");
+  cmd->add_flag("--json", as_json, "Print one JSON object on stdout");
+  cmd->add_flag("--quiet", quiet, "Print nothing but errors");
+}
+
+void DesignCommands::State::RegisterBounds(CLI::App& app) {
+  bounds = app.add_subcommand("bounds", "Minimum and maximum response over alpha, R");
+  bounds_case.Register(bounds);
+  RegisterCommon(bounds);
+  bounds->add_option("--freq", freq, "Single frequency [Hz] (default: a curve over the case range)")
       ->check(Positive());
-  s.bounds
-      ->add_option("--range", s.range,
+  bounds
+      ->add_option("--range", range,
                    "Frequency range of the curve LO HI [Hz] (default: the case's analysis range)")
       ->expected(2)
       ->check(Positive());
-  s.bounds->add_option("--points", s.points, "Frequencies of the curve")
-      ->check(CLI::Range(2, 100000));
-  s.bounds
-      ->add_option("--anchor-every", s.anchor_every,
+  bounds->add_option("--points", points, "Frequencies of the curve")->check(CLI::Range(2, 100000));
+  bounds
+      ->add_option("--anchor-every", anchor_every,
                    "Curve: full bounds (every seed, sample check) at every K-th frequency and the "
                    "last, continuation of the optima in frequency between them (default 1: every "
                    "frequency in full)")
       ->check(CLI::Range(1, 100000));
-  s.bounds->add_flag("--plot", s.plot, "Draw the bound curve and the contact time histories");
-  s.bounds
-      ->add_option("--threads", s.threads,
+  bounds->add_flag("--plot", plot, "Draw the bound curve and the contact time histories");
+  bounds
+      ->add_option("--threads", threads,
                    "Worker threads over the frequencies (0: every core this process may use; "
                    "results do not depend on it)")
       ->check(CLI::Range(0, 4096));
-  s.bounds->add_flag("--resume", s.resume,
-                     "Complete an interrupted run in the same --out (an error if there is none; "
-                     "rerunning the same command resumes as well)");
+  bounds->add_flag("--resume", resume,
+                   "Complete an interrupted run in the same --out (an error if there is none; "
+                   "rerunning the same command resumes as well)");
+}
 
-  s.sweep = app.add_subcommand("sweep", "Robustness R over a design parameter (manual sweep)");
-  s.sweep_case.Register(s.sweep);
-  common(s.sweep);
-  s.sweep->add_option("--param", s.param, "Case parameter to sweep (e.g. gamma, beta)")->required();
-  s.sweep->add_option("--from", s.from, "First value")->required();
-  s.sweep->add_option("--to", s.to, "Last value")->required();
-  s.sweep->add_option("--steps", s.steps, "Number of values")->check(CLI::Range(2, 100000));
-  s.sweep
-      ->add_option("--freq", s.freq,
+void DesignCommands::State::RegisterSweep(CLI::App& app) {
+  sweep = app.add_subcommand("sweep", "Robustness R over a design parameter (manual sweep)");
+  sweep_case.Register(sweep);
+  RegisterCommon(sweep);
+  sweep->add_option("--param", param, "Case parameter to sweep (e.g. gamma, beta)")->required();
+  sweep->add_option("--from", from, "First value")->required();
+  sweep->add_option("--to", to, "Last value")->required();
+  sweep->add_option("--steps", steps, "Number of values")->check(CLI::Range(2, 100000));
+  sweep
+      ->add_option("--freq", freq,
                    "Reference frequency [Hz] (default: peak of y_max at the first value)")
       ->check(Positive());
-  s.sweep->add_flag("--track-peak", s.track_peak, "Locate the resonance again at every value");
-  s.sweep->add_flag("--plot", s.plot, "Draw R(p)");
-  s.sweep
+  sweep->add_flag("--track-peak", track_peak, "Locate the resonance again at every value");
+  sweep->add_flag("--plot", plot, "Draw R(p)");
+  sweep
       ->add_option(
-          "--threads", s.threads,
+          "--threads", threads,
           "Worker threads over the values (0: every core this process may use; results do not "
           "depend on it)")
       ->check(CLI::Range(0, 4096));
-  s.sweep->add_flag("--resume", s.resume,
-                    "Complete an interrupted run in the same --out (an error if there is none; "
-                    "rerunning the same command resumes as well)");
+  sweep->add_flag("--resume", resume,
+                  "Complete an interrupted run in the same --out (an error if there is none; "
+                  "rerunning the same command resumes as well)");
+}
 
-  s.noa = app.add_subcommand("noa", "Nested optimisation: the most robust parameter value");
-  s.noa_case.Register(s.noa);
-  common(s.noa);
-  s.noa->add_option("--param", s.param, "Case parameter to optimise")->required();
-  s.noa->add_option("--from", s.from, "Lower end of the interval")->required();
-  s.noa->add_option("--to", s.to, "Upper end of the interval")->required();
-  s.noa->add_option("--freq", s.freq, "Reference frequency [Hz] (default: peak of y_max at --from)")
+void DesignCommands::State::RegisterNoa(CLI::App& app) {
+  noa = app.add_subcommand("noa", "Nested optimisation: the most robust parameter value");
+  noa_case.Register(noa);
+  RegisterCommon(noa);
+  noa->add_option("--param", param, "Case parameter to optimise")->required();
+  noa->add_option("--from", from, "Lower end of the interval")->required();
+  noa->add_option("--to", to, "Upper end of the interval")->required();
+  noa->add_option("--freq", freq, "Reference frequency [Hz] (default: peak of y_max at --from)")
       ->check(Positive());
-  s.noa
-      ->add_option("--noa-objective", s.noa_objective,
-                   "Outer objective: eta-gap (paper) or one-minus-r")
+  noa->add_option("--noa-objective", noa_objective,
+                  "Outer objective: eta-gap (paper) or one-minus-r")
       ->check(CLI::IsMember({"eta-gap", "one-minus-r"}));
-  s.noa->add_option("--sweep-steps", s.sweep_steps, "Steps of the manual sweep run for comparison")
+  noa->add_option("--sweep-steps", sweep_steps, "Steps of the manual sweep run for comparison")
       ->check(CLI::Range(2, 100000));
-  s.noa->add_option("--scan-points", s.scan_points, "Values of the global scan (default 9)")
+  noa->add_option("--scan-points", scan_points, "Values of the global scan (default 9)")
       ->check(CLI::Range(3, 100000));
-  s.noa->add_flag("--no-sweep", s.no_sweep, "Skip the manual-sweep cost comparison");
-  s.noa
-      ->add_option("--threads", s.threads,
-                   "Worker threads over the scan's values and the comparison sweep's (0: every "
-                   "core this process may use; same result for any)")
+  noa->add_flag("--no-sweep", no_sweep, "Skip the manual-sweep cost comparison");
+  noa->add_option("--threads", threads,
+                  "Worker threads over the scan's values and the comparison sweep's (0: every "
+                  "core this process may use; same result for any)")
       ->check(CLI::Range(0, 4096));
+}
 
-  s.verify =
-      app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
-  s.verify_case.Register(s.verify);
-  common(s.verify);
-  s.verify->add_option("--freq", s.freq, "Frequency [Hz]")->required()->check(Positive());
-  s.verify->add_option("--alpha-samples", s.samples, "Alpha samples (corners first, then random)")
+void DesignCommands::State::RegisterVerify(CLI::App& app) {
+  verify = app.add_subcommand("verify", "Certify the bounds: alpha sampling and time integration");
+  verify_case.Register(verify);
+  RegisterCommon(verify);
+  verify->add_option("--freq", freq, "Frequency [Hz]")->required()->check(Positive());
+  verify->add_option("--alpha-samples", samples, "Alpha samples (corners first, then random)")
       ->check(CLI::Range(1, 1000000));
-  s.verify->add_option("--time-runs", s.ti_runs, "Time integrations from different initial states")
+  verify->add_option("--time-runs", ti_runs, "Time integrations from different initial states")
       ->check(CLI::Range(0, 1000));
-  s.verify
-      ->add_option("--threads", s.threads,
+  verify
+      ->add_option("--threads", threads,
                    "Worker threads over the bounds, alpha samples and time integrations (0: every "
                    "core this process may use; same result for any)")
       ->check(CLI::Range(0, 4096));
-  TimeIntegrationOptions& to = s.time_options;
-  s.verify->add_option("--time-steps", to.steps_per_period, "Time steps per period (default 256)")
+  TimeIntegrationOptions& to = time_options;
+  verify->add_option("--time-steps", to.steps_per_period, "Time steps per period (default 256)")
       ->check(CLI::Range(8, 100000));
-  s.verify
+  verify
       ->add_option("--time-ramp", to.ramp_periods,
                    "Periods over which the harmonic loads are ramped in (default: 20 for lumped "
                    "models, 300 with a smooth ramp for FE models)")
       ->check(CLI::Range(0, 1000000));
-  s.verify
+  verify
       ->add_option("--time-max-periods", to.max_periods,
                    "Periods after which a run that has not settled stops (default 3000)")
       ->check(CLI::Range(1, 10000000));
-  s.verify
+  verify
       ->add_option("--time-tolerance", to.steady_tolerance,
                    "Steady when the amplitude changes less than this, relative (default: 1e-6 "
                    "lumped, 1e-4 FE)")
       ->check(CLI::Range(1e-12, 0.1));
-  s.verify
+  verify
       ->add_option("--time-cutoff", to.modal_cutoff_factor,
                    "Implicit scheme (FE models): modes up to this multiple of --freq are "
                    "integrated, the rest quasi-static (default 20)")
       ->check(CLI::Range(1.0, 1e9));
+}
+
+void DesignCommands::Register(CLI::App& app) {
+  state_->RegisterBounds(app);
+  state_->RegisterSweep(app);
+  state_->RegisterNoa(app);
+  state_->RegisterVerify(app);
 }
 
 int DesignCommands::Run() {

@@ -129,6 +129,13 @@ struct DesignCommands::State {
     return r.freq_hz;
   }
 
+  // The options of each command (and those they share), bound to the fields above.
+  void RegisterCommon(CLI::App* cmd);
+  void RegisterBounds(CLI::App& app);
+  void RegisterSweep(CLI::App& app);
+  void RegisterNoa(CLI::App& app);
+  void RegisterVerify(CLI::App& app);
+
   int RunBounds();
   int RunSweep();
   int RunNoa();
