@@ -142,6 +142,55 @@ std::vector<KnownSolution> SolutionsBeyond(const HarmonicBalance& system, double
   return known;
 }
 
+// Every α is drawn before anything is solved, so that unit k is the same computation on any
+// number of threads or ranks: a) sampling, the corners of the box first, then uniform random
+// (fixed seed); b) time integrations from α = 0, the two alternating corners, then random.
+struct VerifyAlphas {
+  std::vector<Eigen::VectorXd> samples, time_runs;
+};
+
+VerifyAlphas DrawAlphas(int nc, int samples, int ti_runs) {
+  std::mt19937 rng(20241);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VerifyAlphas a{std::vector<Eigen::VectorXd>(samples, Eigen::VectorXd(nc)),
+                 std::vector<Eigen::VectorXd>(ti_runs, Eigen::VectorXd(nc))};
+  for (int i = 0; i < samples; ++i) {
+    for (int k = 0; k < nc; ++k) {
+      a.samples[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
+    }
+  }
+  for (int i = 0; i < ti_runs; ++i) {
+    for (int k = 0; k < nc; ++k)
+      a.time_runs[i][k] =
+          i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
+  }
+  return a;
+}
+
+// One time integration to the steady state from the static state of `alpha`, as a JSON row.
+std::string TimeIntegrationUnit(const Case& c, BalancePool& pool, const Eigen::VectorXd& alpha,
+                                double freq, TimeIntegrationOptions to) {
+  const auto t_run = std::chrono::steady_clock::now();
+  to.freq_hz = freq;
+  to.min_periods = std::min(to.min_periods, to.max_periods);
+  const TimeIntegrationResult r = IntegrateToSteadyState(c.model, alpha, to);
+  return json{{"status", ToString(r.status)},
+              {"hbm_from_state", HbmFromTimeState(pool, c.model, r, freq)},
+              {"message", r.message},
+              {"amplitude", Num(r.amplitude)},
+              {"periods", r.periods},
+              {"scheme", r.scheme},
+              {"modes_integrated", r.modes_integrated},
+              {"relative_change", Num(r.relative_change)},
+              {"free_vibration", Num(r.free_vibration)},
+              // T/μN at the start of the last period, per contact: the α of the HBM member
+              // this steady state is (e.g. a --seeds entry of `bounds` when α is per contact).
+              {"equivalent_alpha", ToStd(r.equivalent_alpha)},
+              {"wall_s", Seconds(t_run)},
+              {"states", RegimeNames(r.regimes)}}
+      .dump();
+}
+
 }  // namespace
 
 int DesignCommands::State::RunVerify() {
@@ -151,22 +200,9 @@ int DesignCommands::State::RunVerify() {
   const HarmonicBalance& system = *balance;
   const int nc = system.num_alpha();
   const BoundsOptions bo = MakeBoundsOptions(c);
-  // Every α is drawn before anything is solved, so that unit k is the same computation on any
-  // number of threads or ranks: a) sampling, the corners of the box first, then uniform random
-  // (fixed seed); b) time integrations from α = 0, the two alternating corners, then random.
-  std::mt19937 rng(20241);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Eigen::VectorXd> alphas(samples, Eigen::VectorXd(nc));
-  for (int i = 0; i < samples; ++i) {
-    for (int k = 0; k < nc; ++k) {
-      alphas[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
-    }
-  }
-  std::vector<Eigen::VectorXd> ti_alphas(ti_runs, Eigen::VectorXd(nc));
-  for (int i = 0; i < ti_runs; ++i) {
-    for (int k = 0; k < nc; ++k)
-      ti_alphas[i][k] = i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
-  }
+  const VerifyAlphas drawn = DrawAlphas(nc, samples, ti_runs);
+  const std::vector<Eigen::VectorXd>& alphas = drawn.samples;
+  const std::vector<Eigen::VectorXd>& ti_alphas = drawn.time_runs;
   // Units: 0 the bounds, then the α samples, then the time integrations (threads or MPI ranks).
   BalancePool pool(system, [&] { return MakeCaseBalance(c); });
   const auto unit = [&](int k) -> std::string {
@@ -177,26 +213,7 @@ int DesignCommands::State::RunVerify() {
           SolveAtFrequency(lease.get(), alphas[k - 1], freq, Eigen::VectorXd(), FrfOptions{});
       return Num(p.status == SolverStatus::kConverged ? p.amplitude : NAN).dump();
     }
-    const auto t_run = std::chrono::steady_clock::now();
-    TimeIntegrationOptions to = time_options;
-    to.freq_hz = freq;
-    to.min_periods = std::min(to.min_periods, to.max_periods);
-    const TimeIntegrationResult r = IntegrateToSteadyState(c.model, ti_alphas[k - 1 - samples], to);
-    return json{{"status", ToString(r.status)},
-                {"hbm_from_state", HbmFromTimeState(pool, c.model, r, freq)},
-                {"message", r.message},
-                {"amplitude", Num(r.amplitude)},
-                {"periods", r.periods},
-                {"scheme", r.scheme},
-                {"modes_integrated", r.modes_integrated},
-                {"relative_change", Num(r.relative_change)},
-                {"free_vibration", Num(r.free_vibration)},
-                // T/μN at the start of the last period, per contact: the α of the HBM member
-                // this steady state is (e.g. a --seeds entry of `bounds` when α is per contact).
-                {"equivalent_alpha", ToStd(r.equivalent_alpha)},
-                {"wall_s", Seconds(t_run)},
-                {"states", RegimeNames(r.regimes)}}
-        .dump();
+    return TimeIntegrationUnit(c, pool, ti_alphas[k - 1 - samples], freq, time_options);
   };
   Progress progress{ShowProgress(), "verify"};
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
