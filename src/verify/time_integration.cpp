@@ -165,6 +165,37 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
 
 namespace {
 
+// The loads sampled over one period (t_k = k dt): the static part f0 and the harmonic part fh.
+void SampleLoads(const Model& model, int ns, Eigen::VectorXd* f0, Eigen::MatrixXd* fh) {
+  const int n = model.num_dofs();
+  *f0 = Eigen::VectorXd::Zero(n);
+  *fh = Eigen::MatrixXd::Zero(n, ns);
+  for (const HarmonicLoad& l : model.loads) {
+    if (l.harmonic == 0) {
+      *f0 += l.cos;
+      continue;
+    }
+    for (int k = 0; k < ns; ++k) {
+      // Reduce h·k mod N first: exact phases over arbitrarily many periods.
+      const double theta =
+          kTwoPi * static_cast<double>((static_cast<long long>(l.harmonic) * k) % ns) / ns;
+      fh->col(k) += l.cos * std::cos(theta) + l.sin * std::sin(theta);
+    }
+  }
+}
+
+// Central-difference operators: q_{n+1} = A⁻¹(F − F_C) + P q_n + Q q_{n−1}.
+struct CentralDifference {
+  CentralDifference(const Model& model, double dt) {
+    const Eigen::MatrixXd lhs = model.mass / (dt * dt) + model.damping / (2.0 * dt);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lhs_lu(lhs);
+    a_inv = lhs_lu.inverse();
+    p = a_inv * (2.0 * model.mass / (dt * dt) - model.stiffness);
+    q = a_inv * (model.damping / (2.0 * dt) - model.mass / (dt * dt));
+  }
+  Eigen::MatrixXd a_inv, p, q;
+};
+
 TimeIntegrationResult IntegrateCentralDifference(const Model& model,
                                                  const Eigen::VectorXd& initial_alpha,
                                                  const TimeIntegrationOptions& options,
@@ -192,21 +223,9 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
     return result;
   }
 
-  // Loads: static part and the harmonic part sampled over one period (t_k = k dt).
-  Eigen::VectorXd f0 = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd fh = Eigen::MatrixXd::Zero(n, ns);
-  for (const HarmonicLoad& l : model.loads) {
-    if (l.harmonic == 0) {
-      f0 += l.cos;
-      continue;
-    }
-    for (int k = 0; k < ns; ++k) {
-      // Reduce h·k mod N first: exact phases over arbitrarily many periods.
-      const double theta =
-          kTwoPi * static_cast<double>((static_cast<long long>(l.harmonic) * k) % ns) / ns;
-      fh.col(k) += l.cos * std::cos(theta) + l.sin * std::sin(theta);
-    }
-  }
+  Eigen::VectorXd f0;
+  Eigen::MatrixXd fh;
+  SampleLoads(model, ns, &f0, &fh);
 
   // Static state for the prescribed α.
   std::vector<ContactTerm> terms = time_stepping::BuildContacts(model);
@@ -219,12 +238,7 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
   result.static_displacement = q;
   time_stepping::SeatContacts(q, initial_alpha, &terms);
 
-  // Central-difference operators: q_{n+1} = A⁻¹(F − F_C) + P q_n + Q q_{n−1}.
-  const Eigen::MatrixXd lhs = model.mass / (dt * dt) + model.damping / (2.0 * dt);
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lhs_lu(lhs);
-  const Eigen::MatrixXd a_inv = lhs_lu.inverse();
-  const Eigen::MatrixXd p_mat = a_inv * (2.0 * model.mass / (dt * dt) - model.stiffness);
-  const Eigen::MatrixXd q_mat = a_inv * (model.damping / (2.0 * dt) - model.mass / (dt * dt));
+  const CentralDifference cd(model, dt);
 
   // First-harmonic tables of one period.
   Eigen::VectorXd cos_table(ns), sin_table(ns);
@@ -264,9 +278,9 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
         const Eigen::VectorXd acc = model.mass.llt().solve(force - model.stiffness * q);
         q_prev = q + 0.5 * dt * dt * acc;
       }
-      q_next.noalias() = a_inv * force;
-      q_next.noalias() += p_mat * q;
-      q_next.noalias() += q_mat * q_prev;
+      q_next.noalias() = cd.a_inv * force;
+      q_next.noalias() += cd.p * q;
+      q_next.noalias() += cd.q * q_prev;
       q_prev.swap(q);
       q.swap(q_next);
     }
