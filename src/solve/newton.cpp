@@ -173,6 +173,36 @@ NewtonSummary SolveNewton(const SquareSystem& system, const NewtonOptions& optio
 
 namespace {
 
+// Armijo backtracking on ½‖R‖² along dx from x (‖R(x)‖/scale = norm). The residual has kinks
+// (stick/slip switches), so the smallest trial that still decreases ‖R‖ is kept when the
+// sufficient decrease is not met. Returns the step length with x_trial = x + t dx and r_trial
+// its residual, or 0 when no trial decreased ‖R‖.
+double LineSearch(const SquareSystem& system, const NewtonOptions& options,
+                  const Eigen::VectorXd& x, const Eigen::VectorXd& dx, double norm, double scale,
+                  Eigen::VectorXd* x_trial, Eigen::VectorXd* r_trial, NewtonSummary* summary) {
+  double t = 1.0;
+  double best_norm = norm, best_t = 0.0;
+  Eigen::VectorXd r_best;
+  for (int bt = 0; bt <= options.max_backtracks; ++bt, t *= 0.5) {
+    *x_trial = x + t * dx;
+    system.Evaluate(*x_trial, r_trial, nullptr);
+    ++summary->evaluations;
+    const double trial = r_trial->norm() / scale;
+    if (std::isfinite(trial) && trial < best_norm) {
+      best_norm = trial;
+      best_t = t;
+      r_best = *r_trial;
+    }
+    if (std::isfinite(trial) && trial * trial <= (1.0 - 2.0 * options.armijo * t) * norm * norm) {
+      return t;
+    }
+  }
+  if (best_t == 0.0) return 0.0;
+  *x_trial = x + best_t * dx;
+  r_trial->swap(r_best);
+  return best_t;
+}
+
 NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options,
                         NewtonStepper& stepper, Eigen::VectorXd* x,
                         const Eigen::VectorXd* residual_at_start) {
@@ -235,36 +265,11 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
       summary.message = "converged on the step size at the round-off floor";
       return summary;
     }
-    // Armijo backtracking on ½‖R‖²; the residual has kinks (stick/slip switches), so the
-    // smallest trial that still decreases ‖R‖ is kept when the sufficient decrease is not met.
-    double t = 1.0;
-    bool accepted = false;
-    double best_norm = norm, best_t = 0.0;
-    Eigen::VectorXd r_best;
-    for (int bt = 0; bt <= options.max_backtracks; ++bt, t *= 0.5) {
-      x_trial = *x + t * dx;
-      system.Evaluate(x_trial, &r_trial, nullptr);
-      ++summary.evaluations;
-      const double trial = r_trial.norm() / scale;
-      if (std::isfinite(trial) && trial < best_norm) {
-        best_norm = trial;
-        best_t = t;
-        r_best = r_trial;
-      }
-      if (std::isfinite(trial) && trial * trial <= (1.0 - 2.0 * options.armijo * t) * norm * norm) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) {
-      if (best_t == 0.0) {
-        summary.status = SolverStatus::kDiverged;
-        summary.message = "line search found no decrease of |R|";
-        return summary;
-      }
-      t = best_t;
-      x_trial = *x + t * dx;
-      r_trial.swap(r_best);
+    const double t = LineSearch(system, options, *x, dx, norm, scale, &x_trial, &r_trial, &summary);
+    if (t == 0.0) {
+      summary.status = SolverStatus::kDiverged;
+      summary.message = "line search found no decrease of |R|";
+      return summary;
     }
     previous_norm = norm;
     const double step = t * dx.norm();
