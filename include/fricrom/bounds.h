@@ -167,6 +167,8 @@ struct BoundsResult {
   // bounds that had to be searched again at H because their refinement failed.
   int search_harmonics = 0;
   int refinement_fallbacks = 0;
+  int harmonics = 0;  // the H of the bounds' solutions: the system's
+
   double wall_s = 0.0;  // wall time of ComputeBounds [s]
   // Paper Eq. 10: 1 − (y_max − y_min) / y_max; NaN unless both bounds converged.
   double robustness() const;

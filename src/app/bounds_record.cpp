@@ -130,6 +130,7 @@ json BoundsRecord(const BoundsResult& b) {
           {"improved_by_samples", b.improved_by_samples},
           {"search_harmonics", b.search_harmonics},
           {"refinement_fallbacks", b.refinement_fallbacks},
+          {"harmonics", b.harmonics},
           {"wall_s", b.wall_s}};
 }
 
@@ -157,6 +158,7 @@ BoundsResult BoundsFromRecord(const json& j) {
   b.improved_by_samples = ReadInt(j, "improved_by_samples");
   b.search_harmonics = ReadInt(j, "search_harmonics");
   b.refinement_fallbacks = ReadInt(j, "refinement_fallbacks");
+  b.harmonics = ReadInt(j, "harmonics");
   b.wall_s = ReadReal(j, "wall_s");
   return b;
 }

@@ -253,9 +253,9 @@ std::string BoundsResult::BriefReport() const {
      << "seeds: min " << spread_min << ", max " << spread_max
      << "; sample check: " << samples_checked << " samples (" << samples_failed << " failed), "
      << improved_by_samples << " bounds improved";
-  if (search_harmonics == 1) {
-    os << "; searched at H = 1, refined at the system's H (" << refinement_fallbacks
-       << " bounds searched again at H)";
+  if (search_harmonics == 1 && harmonics > 1) {
+    os << "; searched at H = 1, refined at H = " << harmonics << " (" << refinement_fallbacks
+       << " bounds searched again at H = " << harmonics << ")";
   }
   return os.str();
 }

@@ -205,6 +205,7 @@ BoundsResult ComputeBounds(const HarmonicBalance& system, double freq_hz,
     result = ComputeBoundsUntimed(system, freq_hz, options);
     result.search_harmonics = system.harmonics();
   }
+  result.harmonics = system.harmonics();
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
@@ -270,6 +271,7 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
     b->amplitude = b->loss_factor = std::numeric_limits<double>::quiet_NaN();
   }
   result.search_harmonics = 1;
+  result.harmonics = system.harmonics();
   if (options.progress) options.progress("harmonic refinement", 1, 1);
   result.wall_s =
       low.wall_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

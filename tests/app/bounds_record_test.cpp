@@ -45,6 +45,8 @@ TEST(BoundsRecord, ReadsBackBitForBit) {
   EXPECT_EQ(r.optimizer_runs, b.optimizer_runs);
   EXPECT_EQ(r.runs_abandoned, b.runs_abandoned);
   EXPECT_EQ(r.samples_checked, b.samples_checked);
+  EXPECT_EQ(r.search_harmonics, b.search_harmonics);
+  EXPECT_EQ(r.harmonics, 1);
   EXPECT_EQ(r.wall_s, b.wall_s);
   EXPECT_EQ(r.robustness(), b.robustness());
 }

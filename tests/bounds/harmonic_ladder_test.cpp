@@ -56,6 +56,10 @@ TEST_P(Ladder, RefinedBoundsMatchTheDirectSearchAtH3) {
   ASSERT_TRUE(l.IsUsable()) << l.BriefReport();
   EXPECT_EQ(d.search_harmonics, 3);
   EXPECT_EQ(l.search_harmonics, 1);
+  EXPECT_EQ(l.harmonics, 3);
+  EXPECT_EQ(d.harmonics, 3);
+  EXPECT_NE(l.BriefReport().find("searched at H = 1, refined at H = 3"), std::string::npos);
+  EXPECT_EQ(d.BriefReport().find("refined"), std::string::npos) << d.BriefReport();
   EXPECT_EQ(l.refinement_fallbacks, 0) << l.BriefReport();
   // Each refined bound is a point where a run at H = 3 stopped by its test (a KKT start counts),
   // not merely the embedded H = 1 optimum taken as a known solution.
@@ -103,6 +107,9 @@ TEST(Ladder, ChangesNothingAtH1) {
   EXPECT_EQ(a.min.amplitude, b.min.amplitude);
   EXPECT_EQ(a.max.amplitude, b.max.amplitude);
   EXPECT_EQ(b.search_harmonics, 1);
+  EXPECT_EQ(b.harmonics, 1);
+  // Nothing was refined: the report must not say so.
+  EXPECT_EQ(b.BriefReport().find("refined"), std::string::npos) << b.BriefReport();
 }
 
 TEST(Ladder, OptionsAndBalancesThatCannotDropHarmonicsAreRejected) {
