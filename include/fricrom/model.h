@@ -46,6 +46,9 @@ struct Model {
 
   int num_dofs() const { return static_cast<int>(dof_names.size()); }
   int num_alpha() const;  // α the solvers vary: groups, or contacts without groups
+  // Node pairs in contact: contacts acting between the same DOFs (the two tangential
+  // directions of one FE node pair) count once.
+  int num_contact_pairs() const;
   // α per contact from the solvers' α (one per group); throws on a wrong size.
   Eigen::VectorXd ContactAlpha(const Eigen::VectorXd& alpha) const;
   // Throws std::invalid_argument naming the first inconsistency (sizes, indices, signs).

@@ -51,22 +51,11 @@ static void WriteHistories(Hdf5Writer& h5, const std::string& group, const Harmo
   h5.Attribute(group, "states_legend", "0 stick, 1 positive slip, 2 negative slip, 3 lift-off");
 }
 
-// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
-// pair) count once.
-int ContactPairs(const Model& model) {
-  std::vector<std::pair<std::vector<int>, std::vector<int>>> seen;
-  for (const Contact& c : model.contacts) {
-    const auto key = std::make_pair(c.dofs_a, c.dofs_b);
-    if (std::find(seen.begin(), seen.end(), key) == seen.end()) seen.push_back(key);
-  }
-  return static_cast<int>(seen.size());
-}
-
 json BoundsJson(const Model& model, const BoundsResult& b) {
   json j;
   j["freq_hz"] = b.freq_hz;
   j["point_wall_s"] = b.wall_s;
-  j["contact_pairs"] = ContactPairs(model);
+  j["contact_pairs"] = model.num_contact_pairs();
   j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
   j["y_min"] = Num(b.min.amplitude);
   j["y_max"] = Num(b.max.amplitude);

@@ -20,9 +20,6 @@ nlohmann::json NumberOrNull(double v);
 std::vector<double> ToStd(const Eigen::VectorXd& v);
 std::string Status(const BoundSolution& s);
 
-// Node pairs in contact: contacts sharing both sides' DOFs (two tangential directions of one
-// pair) count once.
-int ContactPairs(const Model& model);
 // The JSON of one bound computation (the keys of `fricrom bounds --json`).
 nlohmann::json BoundsJson(const Model& model, const BoundsResult& b);
 

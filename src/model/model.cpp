@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -70,6 +71,12 @@ void Model::Validate() const {
 int Model::num_alpha() const {
   if (alpha_group.empty()) return static_cast<int>(contacts.size());
   return *std::max_element(alpha_group.begin(), alpha_group.end()) + 1;
+}
+
+int Model::num_contact_pairs() const {
+  std::set<std::pair<std::vector<int>, std::vector<int>>> pairs;
+  for (const Contact& c : contacts) pairs.emplace(c.dofs_a, c.dofs_b);
+  return static_cast<int>(pairs.size());
 }
 
 Eigen::VectorXd Model::ContactAlpha(const Eigen::VectorXd& alpha) const {

@@ -103,8 +103,9 @@ TEST(Cascade, FixedInterfaceVariantDiffersOnlyInTheDamping) {
 
 TEST(Cascade, InterfacesPairAllNodesWithFramesAndAreaStiffness) {
   const Case c = LoadCase((kDir / "coarse.toml").string());
-  ASSERT_EQ(c.model.contacts.size(), 216u);  // 4 faces x 27 pairs x 2 tangential directions
-  EXPECT_EQ(c.model.num_alpha(), 216);       // one α per pair and direction
+  ASSERT_EQ(c.model.contacts.size(), 216u);     // 4 faces x 27 pairs x 2 tangential directions
+  EXPECT_EQ(c.model.num_alpha(), 216);          // one α per pair and direction
+  EXPECT_EQ(c.model.num_contact_pairs(), 108);  // the two directions of a pair count once
   const double k_area = c.parameters.at("k_area"), mu = c.parameters.at("mu");
   for (const std::string face : {"d1L.", "d1R.", "d2L.", "d2R."}) {
     double kn = 0, kt1 = 0;
