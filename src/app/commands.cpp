@@ -19,6 +19,7 @@
 #include "app/fe_commands.h"
 #include "app/mpi_units.h"
 #include "app/reduce_commands.h"
+#include "app/result_files.h"
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
 #include "fricrom/fe_model.h"
@@ -313,6 +314,9 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
     files.plotted = std::system(cmd.c_str()) == 0;
     if (!files.plotted) std::cerr << "frf: figure not written (see the message above)\n";
   }
+  std::vector<fs::path> written = {files.h5, files.csv};
+  if (files.plotted) written.push_back(files.png);
+  WriteManifest(out_dir, "frf", written);
   if (a.as_json) {
     PrintFrfJson(c, alpha, run, files);
   } else if (!a.quiet) {

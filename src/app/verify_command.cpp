@@ -24,6 +24,7 @@
 #include "fricrom/solve.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"
+#include "io/atomic_file.h"
 
 namespace fricrom::app {
 
@@ -277,6 +278,9 @@ int DesignCommands::State::RunVerify() {
   j["certified"] = certified;
   j["not_certified_because"] = reasons;
   j["wall_s"] = Seconds(t0);
+  // The certificate is kept beside the other results (--out), not only on stdout.
+  const std::filesystem::path file = OutDir(c, "verify") / "verify.json";
+  WriteTextAtomically(file, j.dump(1) + "\n");
   if (as_json) {
     std::cout << j.dump() << "\n";
   } else if (!quiet) {
@@ -294,6 +298,7 @@ int DesignCommands::State::RunVerify() {
     for (const json& r : runs) std::cout << "  time integration: " << r.dump() << "\n";
     std::cout << "  " << (certified ? "CERTIFIED" : "NOT CERTIFIED") << "\n";
     for (const std::string& r : reasons) std::cout << "    " << r << "\n";
+    std::cout << "  wrote " << file.string() << "\n";
   }
   return certified ? 0 : 1;
 }

@@ -96,6 +96,12 @@ TEST(Cli, FrfAtFixedFrequenciesWritesJsonAndFiles) {
   // The JSON names the files it wrote.
   EXPECT_EQ(fs::path(j.at("files").at("hdf5").get<std::string>()), h5);
   EXPECT_EQ(fs::path(j.at("files").at("csv").get<std::string>()), csv);
+  // Written last, the manifest names the set: both files with their sizes.
+  const json m = json::parse(ReadFile(tmp.path() / "frf.manifest.json"));
+  ASSERT_EQ(m.at("files").size(), 2u);
+  EXPECT_EQ(m.at("files")[0].at("file"), "frf.h5");
+  EXPECT_EQ(m.at("files")[0].at("bytes").get<uintmax_t>(), fs::file_size(h5));
+  EXPECT_EQ(m.at("files")[1].at("file"), "frf.csv");
 }
 
 // The baseline is mirror-symmetric (x -> -x maps blade1 <-> blade3, damper1 <-> damper2, contact

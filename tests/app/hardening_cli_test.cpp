@@ -86,6 +86,8 @@ TEST(CliHardening, CertificateRestsOnEvidence) {
   EXPECT_EQ(r.exit_code, j.at("certified").get<bool>() ? 0 : 1);
   EXPECT_EQ(j.at("not_certified_because").empty(), j.at("certified").get<bool>());
   EXPECT_EQ(converged, 20) << "the single-frequency solve should now converge at mu = 0";
+  // The certificate is kept in --out as well: the same JSON as on stdout.
+  EXPECT_EQ(json::parse(ReadFile(tmp.path() / "verify.json")), j);
 }
 
 // verify restarts the bound optimisation from the samples beyond a local bound: one seed (α = 0,
