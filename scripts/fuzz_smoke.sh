@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of the FE readers with clang (ASan + UBSan) and runs each for a
-# short time on its fixtures: the smoke run of CI. Longer runs: FUZZ_SECONDS=600 bash scripts/fuzz_smoke.sh
+# Builds the libFuzzer targets of the FE readers and of the lumped case-file reader with clang
+# (ASan + UBSan) and runs each for a short time on its fixtures: the smoke run of CI. Longer runs: FUZZ_SECONDS=600 bash scripts/fuzz_smoke.sh
 # Needs clang and libclang-rt-14-dev (scripts/setup.sh installs them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,9 +15,12 @@ common=(-std=c++20 -g -O1 -fno-sanitize-recover=all -Iinclude -Isrc -isystem /us
 # The FE readers only: the HDF5 writer/reader is not fed untrusted text and would need libhdf5.
 readers=()
 for f in src/io/*.cpp; do [[ $f == src/io/hdf5_file.cpp ]] || readers+=("$f"); done
+# The case-file reader: its own sources, toml++ as the shared library the project links.
+case_sources=(src/model/case_file.cpp src/model/case_reader.cpp src/model/model.cpp src/model/formulation.cpp)
+toml=(-DTOML_HEADER_ONLY=0 -DTOML_SHARED_LIB=1)
 declare -A corpus=([op4]="tests/data/op4 tests/fuzz/regressions/op4" [punch]="tests/data/dmig tests/data/extseout"
                    [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx
-                   [inp_deck]="tests/data/calculix meshes/damper/coarse")
+                   [inp_deck]="tests/data/calculix meshes/damper/coarse" [case]=meshes/lumped3)
 targets=(op4 punch abaqus calculix mtx inp_deck)
 # The readers are compiled once (instrumented for the fuzzer, not linked with its main), on every
 # core; each target then only compiles its harness and links: ~1 min instead of ~5.
@@ -25,14 +28,19 @@ echo "fuzz_smoke: compiling ${#readers[@]} readers and ${#targets[@]} harnesses"
 jobs=()
 for f in "${readers[@]}"; do jobs+=("$f:$out/$(basename "${f%.cpp}").o"); done
 for t in "${targets[@]}"; do jobs+=("tests/fuzz/${t}_fuzz.cpp:$out/${t}_fuzz.o"); done
+for f in tests/fuzz/case_fuzz.cpp "${case_sources[@]}"; do jobs+=("$f:$out/case_$(basename "${f%.cpp}").o"); done
 printf '%s\n' "${jobs[@]}" | xargs -P "$(nproc)" -I{} bash -c \
   'src=${1%%:*}; obj=${1#*:}; shift; clang++ "$@" -c "$src" -o "$obj"' _ {} \
-  "${common[@]}" -fsanitize=fuzzer-no-link,address,undefined
+  "${common[@]}" "${toml[@]}" -fsanitize=fuzzer-no-link,address,undefined
 objects=()
 for f in "${readers[@]}"; do objects+=("$out/$(basename "${f%.cpp}").o"); done
 for t in "${targets[@]}"; do
   clang++ -fsanitize=fuzzer,address,undefined "$out/${t}_fuzz.o" "${objects[@]}" -o "$out/${t}_fuzz"
 done
+case_objects=()
+for f in tests/fuzz/case_fuzz.cpp "${case_sources[@]}"; do case_objects+=("$out/case_$(basename "${f%.cpp}").o"); done
+clang++ -fsanitize=fuzzer,address,undefined "${case_objects[@]}" -lmuparser -ltomlplusplus -o "$out/case_fuzz"
+targets+=(case)
 for t in "${targets[@]}"; do
   work="$out/corpus_$t"
   mkdir -p "$work"

@@ -7,18 +7,14 @@
 #include <memory>
 #include <string>
 
+#include "fricrom/formulation.h"
 #include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom {
 
-enum class BalanceKind { kFull, kCondensed };
-std::string ToString(BalanceKind kind);                              // "full" | "condensed"
-bool FromString(const std::string& name, BalanceKind* kind);         // false on an unknown name
-std::string ToString(ReceptanceMethod method);                       // "dense" | "modal"
-bool FromString(const std::string& name, ReceptanceMethod* method);  // false on an unknown name
-
-// Throws std::invalid_argument on invalid options or an inconsistent model.
+// The balance of `kind` (fricrom/formulation.h) for the model. Throws std::invalid_argument on
+// invalid options or an inconsistent model.
 std::unique_ptr<HarmonicBalance> MakeBalance(Model model, const HbmOptions& options,
                                              BalanceKind kind);
 

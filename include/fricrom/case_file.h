@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "fricrom/balance.h"
+#include "fricrom/formulation.h"
 #include "fricrom/model.h"
 
 namespace fricrom {

@@ -12,16 +12,10 @@
 #include <vector>
 
 #include "fricrom/contact_law.h"
+#include "fricrom/formulation.h"
 #include "fricrom/solve.h"
 
 namespace fricrom {
-
-// How the condensed balance forms the receptance Z_h(ω)⁻¹ of the linear part.
-enum class ReceptanceMethod {
-  kDense,  // LU of the real block form per harmonic and ω: exact for any damping, O(n³) per ω
-  kModal,  // one generalised eigen-decomposition of (K + K_stick, M), then O(n_r² n) per ω; the
-           // damping enters through the diagonal of Φᵀ C Φ (exact for proportional damping)
-};
 
 struct HbmOptions {
   int harmonics = 1;                                       // H >= 1: harmonics 0..H are balanced

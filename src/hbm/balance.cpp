@@ -68,34 +68,6 @@ Eigen::VectorXd HarmonicBalance::EmbedLowerHarmonics(const Eigen::VectorXd& x_lo
   return x;
 }
 
-std::string ToString(BalanceKind kind) {
-  return kind == BalanceKind::kCondensed ? "condensed" : "full";
-}
-
-bool FromString(const std::string& name, BalanceKind* kind) {
-  if (name == "full") {
-    *kind = BalanceKind::kFull;
-    return true;
-  }
-  if (name == "condensed") {
-    *kind = BalanceKind::kCondensed;
-    return true;
-  }
-  return false;
-}
-
-std::string ToString(ReceptanceMethod method) {
-  return method == ReceptanceMethod::kModal ? "modal" : "dense";
-}
-
-bool FromString(const std::string& name, ReceptanceMethod* method) {
-  if (name == "dense" || name == "modal") {
-    *method = name == "modal" ? ReceptanceMethod::kModal : ReceptanceMethod::kDense;
-    return true;
-  }
-  return false;
-}
-
 std::unique_ptr<HarmonicBalance> MakeBalance(Model model, const HbmOptions& options,
                                              BalanceKind kind) {
   std::vector<int> groups = model.alpha_group;
