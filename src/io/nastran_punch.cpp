@@ -1,18 +1,18 @@
 // Nastran bulk data / punch (.pch) reader: DMIG matrices (small, large and free field), GRID,
 // GRDSET, CORD2R and EXTRN cards. Every other card is skipped (with its continuations).
-// Format notes and the rules chosen here: docs/formats-nastran-punch.md.
+// Format notes and the rules chosen here: docs/formats-nastran-punch.md. This file splits the
+// cards and reads their fields; nastran_punch_dmig.cpp assembles the DMIG matrices.
 #include <algorithm>
-#include <cmath>
 #include <deque>
 #include <functional>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <string_view>
 #include <utility>
 
 #include "fe_text.h"
 #include "fricrom/fe_model.h"
+#include "nastran_punch_dmig.h"
 
 namespace fricrom {
 
@@ -22,6 +22,8 @@ using fe_text::Fail;
 using fe_text::Printable;
 using fe_text::Trim;
 using fe_text::Upper;
+using punch::Dmig;
+using punch::DmigEntry;
 
 // One bulk data entry with its continuations. fields[k] is data field k: field 2 of the first
 // logical (8-field) line is k = 0, field 9 is k = 7, field 2 of the first continuation is k = 8...
@@ -43,22 +45,6 @@ struct Card {
     const std::string f = "field " + std::to_string(k % 8 + 2);
     return k < 8 ? f : "continuation " + std::to_string(k / 8) + " " + f;
   }
-};
-
-struct DmigEntry {
-  DofId row, col;
-  double a = 0, b = 0;
-  bool b_given = false;
-  size_t line = 0;
-};
-
-struct Dmig {
-  std::string name;
-  bool has_header = false;
-  size_t header_line = 0;
-  size_t first_line = 0;
-  int64_t ifo = 0, tin = 0, tout = 0, polar = 0, ncol = 0;
-  std::vector<DmigEntry> entries;
 };
 
 struct GridCard {
@@ -488,20 +474,10 @@ class PunchReader {
     model.format = "dmig";
 
     // EXTRN: unique DOFs; sorted copy with original positions for look-ups.
-    std::vector<std::pair<DofId, size_t>> extrn_sorted;
-    for (size_t i = 0; i < extrn_.size(); ++i) extrn_sorted.emplace_back(extrn_[i], i);
-    std::stable_sort(extrn_sorted.begin(), extrn_sorted.end(), [](const auto& a, const auto& b) {
-      return fe_text::DofLess(a.first, b.first);
-    });
-    for (size_t i = 1; i < extrn_sorted.size(); ++i) {
-      if (extrn_sorted[i].first == extrn_sorted[i - 1].first) {
-        const size_t later = std::max(extrn_sorted[i].second, extrn_sorted[i - 1].second);
-        FailAt(extrn_lines_[later],
-               "EXTRN lists " + fe_text::DescribeDof(extrn_sorted[i].first) + " twice");
-      }
+    const punch::ExtrnSorted extrn_sorted = punch::SortExtrn(path_, extrn_, extrn_lines_);
+    for (const Dmig& d : dmigs_) {
+      model.matrices.push_back(punch::BuildDmig(path_, d, extrn_, extrn_sorted, options_));
     }
-
-    for (const Dmig& d : dmigs_) model.matrices.push_back(BuildDmig(d, extrn_sorted));
 
     model.external_dofs = extrn_;  // DOF order of the external superelement
 
@@ -529,151 +505,6 @@ class PunchReader {
                      [](const auto& a, const auto& b) { return a.first.id < b.first.id; });
     for (const auto& s : systems_) model.systems.push_back(s.first);
     return model;
-  }
-
-  FeMatrix BuildDmig(const Dmig& d,
-                     const std::vector<std::pair<DofId, size_t>>& extrn_sorted) const {
-    if (!d.has_header) {
-      FailAt(d.first_line, "DMIG " + d.name +
-                               " has column cards but no header card (expected 'DMIG " + d.name +
-                               " 0 IFO TIN TOUT POLAR NCOL')");
-    }
-    FeMatrix m;
-    m.name = d.name;
-    m.symmetric = d.ifo == 6;
-    m.is_complex = d.tin >= 3;
-    m.source_precision_bits = (d.tin == 1 || d.tin == 3) ? 32 : 64;
-    const bool single = m.source_precision_bits == 32;
-
-    // Values: type checks, single-precision rounding, polar form.
-    std::vector<std::pair<double, double>> values(d.entries.size());
-    for (size_t i = 0; i < d.entries.size(); ++i) {
-      const DmigEntry& e = d.entries[i];
-      if (!m.is_complex && e.b_given) {
-        FailAt(e.line, "DMIG " + d.name + ": imaginary part given for " +
-                           fe_text::DescribeDof(e.row) + " but TIN " + std::to_string(d.tin) +
-                           " declares a real matrix (expected the field after Ai blank)");
-      }
-      double re = e.a, im = e.b;
-      if (m.is_complex && d.polar == 1) {
-        const double phase = e.b * std::numbers::pi / 180.0;
-        re = e.a * std::cos(phase);
-        im = e.a * std::sin(phase);
-      }
-      if (single) {
-        // volatile: GCC 12 -O2/-O3 (SLP vectorizer) drops this double->float->double rounding
-        // of the (re, im) pair otherwise; clang and -O1 keep it.
-        const volatile float fre = static_cast<float>(re), fim = static_cast<float>(im);
-        re = fre;
-        im = fim;
-        if (!std::isfinite(re) || !std::isfinite(im)) {
-          FailAt(e.line, "DMIG " + d.name + ": value beyond the single-precision range (TIN " +
-                             std::to_string(d.tin) + ")");
-        }
-      }
-      if (d.ifo == 9) {
-        if (e.col.component != 0) {
-          FailAt(e.line, "DMIG " + d.name +
-                             ": IFO 9 column card needs CJ 0 or blank (GJ is the "
-                             "column number), got " +
-                             std::to_string(e.col.component));
-        }
-        if (e.col.node > d.ncol) {
-          FailAt(e.line, "DMIG " + d.name + ": column " + std::to_string(e.col.node) +
-                             " out of range (expected 1..NCOL = " + std::to_string(d.ncol) + ")");
-        }
-      }
-      values[i] = {re, im};
-    }
-
-    // One id cannot be both a scalar point (component 0) and a grid (components 1-6).
-    {
-      std::vector<std::pair<DofId, size_t>> all;
-      for (const DmigEntry& e : d.entries) {
-        all.emplace_back(e.row, e.line);
-        if (d.ifo != 9) all.emplace_back(e.col, e.line);
-      }
-      std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-        return fe_text::DofLess(a.first, b.first) || (a.first == b.first && a.second < b.second);
-      });
-      for (size_t i = 1; i < all.size(); ++i) {
-        const DofId &p = all[i - 1].first, &q = all[i].first;
-        if (p.node == q.node && p.component == 0 && q.component != 0) {
-          FailAt(std::max(all[i].second, all[i - 1].second),
-                 "DMIG " + d.name + ": id " + std::to_string(q.node) +
-                     " used both as a scalar point (component 0, line " +
-                     std::to_string(all[i - 1].second) + ") and as a grid (component " +
-                     std::to_string(q.component) + ", line " + std::to_string(all[i].second) + ")");
-        }
-      }
-    }
-
-    // DOF sets.
-    const auto sorted_unique = [](std::vector<DofId> v) {
-      std::sort(v.begin(), v.end(), fe_text::DofLess);
-      v.erase(std::unique(v.begin(), v.end()), v.end());
-      return v;
-    };
-    std::vector<DofId> rows, cols;
-    for (const DmigEntry& e : d.entries) {
-      rows.push_back(e.row);
-      if (d.ifo != 9) (d.ifo == 2 ? cols : rows).push_back(e.col);
-    }
-    rows = sorted_unique(std::move(rows));
-    cols = sorted_unique(std::move(cols));
-    if (d.ifo == 1 || d.ifo == 6) cols = rows;
-
-    // A DOF set inside the EXTRN set takes the EXTRN order (superelement matrices).
-    const auto in_extrn = [&](const std::vector<DofId>& set) {
-      if (extrn_sorted.empty() || set.empty()) return false;
-      for (const DofId& x : set) {
-        const auto it = std::lower_bound(
-            extrn_sorted.begin(), extrn_sorted.end(), x,
-            [](const auto& a, const DofId& b) { return fe_text::DofLess(a.first, b); });
-        if (it == extrn_sorted.end() || !(it->first == x)) return false;
-      }
-      return true;
-    };
-    const bool rows_extrn = in_extrn(rows);
-    const bool cols_extrn = d.ifo != 9 && in_extrn(cols);
-    const auto index_of = [&](const std::vector<DofId>& set, bool extrn, const DofId& x) {
-      if (extrn) {
-        const auto it = std::lower_bound(
-            extrn_sorted.begin(), extrn_sorted.end(), x,
-            [](const auto& a, const DofId& b) { return fe_text::DofLess(a.first, b); });
-        return static_cast<int64_t>(it->second);
-      }
-      return static_cast<int64_t>(std::lower_bound(set.begin(), set.end(), x, fe_text::DofLess) -
-                                  set.begin());
-    };
-
-    std::vector<fe_text::TextEntry> entries(d.entries.size());
-    for (size_t i = 0; i < d.entries.size(); ++i) {
-      const DmigEntry& e = d.entries[i];
-      fe_text::TextEntry& t = entries[i];
-      t.row = index_of(rows, rows_extrn, e.row);
-      t.col = d.ifo == 9 ? e.col.node - 1 : index_of(cols, cols_extrn, e.col);
-      t.re = values[i].first;
-      t.im = values[i].second;
-      t.line = e.line;
-    }
-    if (rows_extrn) rows = extrn_;
-    if (cols_extrn) cols = extrn_;
-    if ((d.ifo == 1 || d.ifo == 6) && rows_extrn != cols_extrn) {
-      // cannot happen (same set), kept for clarity
-      FailAt(d.header_line, "DMIG " + d.name + ": inconsistent DOF sets");
-    }
-    m.rows = static_cast<int64_t>(rows.size());
-    m.cols = d.ifo == 9 ? d.ncol : static_cast<int64_t>(cols.size());
-    m.row_dofs = rows;
-    if (d.ifo != 9) m.col_dofs = cols;
-    const auto describe = [&](int64_t r, int64_t c) {
-      const std::string col = d.ifo == 9 ? "column " + std::to_string(c + 1)
-                                         : "column " + fe_text::DescribeDof(m.col_dofs[c]);
-      return "(row " + fe_text::DescribeDof(m.row_dofs[r]) + ", " + col + ") of DMIG " + d.name;
-    };
-    fe_text::AssembleEntries(path_, entries, m.symmetric, m, describe, options_);
-    return m;
   }
 
   std::string path_;
