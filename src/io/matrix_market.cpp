@@ -40,31 +40,33 @@ void SplitBlanks(std::string_view line, std::vector<std::string_view>& tokens) {
 
 constexpr std::string_view kNameComment = "% name:";
 
-}  // namespace
-
-FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
-                         const FeReadOptions& options) {
-  const std::string text = fe_text::ReadCompleteTextFile(path, "Matrix Market file");
-  FeModel model;
-  model.source = path;
-  model.format = "matrix-market";
-  // Filled in place: moving a FeMatrix copies Eigen's per-column index (O(cols) memory).
-  FeMatrix& m = model.matrices.emplace_back();
-  m.name = std::filesystem::path(path).stem().string();
-
-  size_t pos = 0, number = 0;
+// Where the reader is in the text: `line` is line `number` (1-based) of it.
+struct Cursor {
+  std::string_view text;
+  size_t pos = 0;
+  size_t number = 0;
   std::string_view line;
   std::vector<std::string_view> tok;
-  if (!fe_text::NextLine(text, pos, line)) {
+
+  bool Next() {
+    if (!fe_text::NextLine(text, pos, line)) return false;
+    ++number;
+    return true;
+  }
+};
+
+// Line 1: "%%MatrixMarket matrix coordinate <field> <symmetry>"; sets m.is_complex, m.symmetric.
+void ReadBanner(const std::string& path, Cursor& c, FeMatrix& m) {
+  if (!c.Next()) {
     Fail(path, 1,
          "empty file: expected the banner '%%MatrixMarket matrix coordinate real general'");
   }
-  number = 1;
-  SplitBlanks(line, tok);
+  std::vector<std::string_view>& tok = c.tok;
+  SplitBlanks(c.line, tok);
   if (tok.size() != 5 || fe_text::Upper(tok[0]) != "%%MATRIXMARKET") {
     Fail(path, 1,
          "expected the banner '%%MatrixMarket matrix coordinate <field> <symmetry>', got " +
-             fe_text::Printable(line));
+             fe_text::Printable(c.line));
   }
   const std::string object = fe_text::Upper(tok[1]), format = fe_text::Upper(tok[2]),
                     field = fe_text::Upper(tok[3]), symmetry = fe_text::Upper(tok[4]);
@@ -92,13 +94,41 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
   }
   m.is_complex = field == "COMPLEX";
   m.symmetric = symmetry == "SYMMETRIC";
+}
 
-  // Comments, then the size line.
-  bool have_size = false;
-  int64_t nnz = 0;
-  while (fe_text::NextLine(text, pos, line)) {
-    ++number;
-    const std::string_view t = fe_text::Trim(line);
+// Checks the dimensions and the entry count of the size line (line `number`).
+void CheckSize(const std::string& path, size_t number, const FeMatrix& m, int64_t nnz) {
+  if (m.rows < 0 || m.cols < 0 || m.rows > fe_text::kMaxDimension ||
+      m.cols > fe_text::kMaxDimension) {
+    Fail(path, number,
+         "matrix size " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+             " out of range (expected 0.." + std::to_string(fe_text::kMaxDimension) + ")");
+  }
+  if (m.symmetric && m.rows != m.cols) {
+    Fail(path, number,
+         "dimension mismatch: a symmetric matrix must be square, got " + std::to_string(m.rows) +
+             " x " + std::to_string(m.cols));
+  }
+  // rows * cols saturating (dimensions reach 2^53; only the entries cost memory).
+  const auto times = [](int64_t x, int64_t y) {
+    return x != 0 && y > std::numeric_limits<int64_t>::max() / x
+               ? std::numeric_limits<int64_t>::max()
+               : x * y;
+  };
+  const int64_t capacity = m.symmetric ? times(m.rows, m.rows + 1) / 2 : times(m.rows, m.cols);
+  if (nnz < 0 || nnz > capacity) {
+    Fail(path, number,
+         "expected 0.." + std::to_string(capacity) + " entries for a " + std::to_string(m.rows) +
+             " x " + std::to_string(m.cols) + " " + (m.symmetric ? "symmetric " : "") +
+             "matrix, got " + std::to_string(nnz));
+  }
+}
+
+// Comments (a "% name:" one renames the matrix), then the size line "rows columns entries":
+// sets m.rows, m.cols and returns the entry count.
+int64_t ReadSizeLine(const std::string& path, Cursor& c, FeMatrix& m) {
+  while (c.Next()) {
+    const std::string_view t = fe_text::Trim(c.line);
     if (t.empty()) continue;
     if (t.front() == '%') {
       if (t.substr(0, kNameComment.size()) == kNameComment) {
@@ -107,44 +137,30 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
       }
       continue;
     }
-    SplitBlanks(t, tok);
-    if (tok.size() != 3) {
-      Fail(path, number,
+    SplitBlanks(t, c.tok);
+    if (c.tok.size() != 3) {
+      Fail(path, c.number,
            "expected the size line 'rows columns entries', got " + fe_text::Printable(t));
     }
-    m.rows = fe_text::RequireInt(tok[0], path, number, "the number of rows");
-    m.cols = fe_text::RequireInt(tok[1], path, number, "the number of columns");
-    nnz = fe_text::RequireInt(tok[2], path, number, "the number of entries");
-    if (m.rows < 0 || m.cols < 0 || m.rows > fe_text::kMaxDimension ||
-        m.cols > fe_text::kMaxDimension) {
-      Fail(path, number,
-           "matrix size " + std::to_string(m.rows) + " x " + std::to_string(m.cols) +
-               " out of range (expected 0.." + std::to_string(fe_text::kMaxDimension) + ")");
-    }
-    if (m.symmetric && m.rows != m.cols) {
-      Fail(path, number,
-           "dimension mismatch: a symmetric matrix must be square, got " + std::to_string(m.rows) +
-               " x " + std::to_string(m.cols));
-    }
-    // rows * cols saturating (dimensions reach 2^53; only the entries cost memory).
-    const auto times = [](int64_t x, int64_t y) {
-      return x != 0 && y > std::numeric_limits<int64_t>::max() / x
-                 ? std::numeric_limits<int64_t>::max()
-                 : x * y;
-    };
-    const int64_t capacity = m.symmetric ? times(m.rows, m.rows + 1) / 2 : times(m.rows, m.cols);
-    if (nnz < 0 || nnz > capacity) {
-      Fail(path, number,
-           "expected 0.." + std::to_string(capacity) + " entries for a " + std::to_string(m.rows) +
-               " x " + std::to_string(m.cols) + " " + (m.symmetric ? "symmetric " : "") +
-               "matrix, got " + std::to_string(nnz));
-    }
-    have_size = true;
-    break;
+    m.rows = fe_text::RequireInt(c.tok[0], path, c.number, "the number of rows");
+    m.cols = fe_text::RequireInt(c.tok[1], path, c.number, "the number of columns");
+    const int64_t nnz = fe_text::RequireInt(c.tok[2], path, c.number, "the number of entries");
+    CheckSize(path, c.number, m, nnz);
+    return nnz;
   }
-  if (!have_size)
-    Fail(path, number, "truncated file: expected the size line 'rows columns entries'");
+  Fail(path, c.number, "truncated file: expected the size line 'rows columns entries'");
+}
 
+// The `nnz` entry lines after the size line (0-based indices, not yet range-checked).
+std::vector<fe_text::TextEntry> ReadEntries(const std::string& path, Cursor& c, const FeMatrix& m,
+                                            int64_t nnz) {
+  // The hot loop works on locals (position, token buffer) rather than on the cursor, so that they
+  // can stay in registers.
+  const std::string_view text = c.text;
+  size_t pos = c.pos, number = c.number;
+  std::string_view line;
+  std::vector<std::string_view> tok;
+  tok.swap(c.tok);
   std::vector<fe_text::TextEntry> entries;
   // Each entry line has at least 6 bytes: never trust the header beyond what the file can hold.
   entries.reserve(
@@ -179,30 +195,55 @@ FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
          "truncated file: the size line declares " + std::to_string(nnz) + " entries, found " +
              std::to_string(entries.size()));
   }
-  fe_text::AssembleEntries(path, entries, m.symmetric, m, {}, options);
+  c.pos = pos;
+  c.number = number;
+  return entries;
+}
 
-  if (!dof_csv.empty()) {
-    std::vector<DofId> dofs = fe_text::ReadDofCsv(dof_csv);
-    const int64_t n = static_cast<int64_t>(dofs.size());
-    if (n == m.rows && m.rows == m.cols) {
-      m.row_dofs = dofs;
-      m.col_dofs = std::move(dofs);
-    } else if (n == m.rows + m.cols && n > 0) {
-      m.row_dofs.assign(dofs.begin(), dofs.begin() + m.rows);
-      m.col_dofs.assign(dofs.begin() + m.rows, dofs.end());
-    } else if (n == m.rows) {
-      m.row_dofs = std::move(dofs);
-    } else {
-      Fail(dof_csv, 0,
-           "DOF map has " + std::to_string(n) + " entries but the matrix " + path + " is " +
-               std::to_string(m.rows) + " x " + std::to_string(m.cols) + " (expected " +
-               std::to_string(m.rows) + " lines for the rows" +
-               (m.rows == m.cols
-                    ? ""
-                    : ", or " + std::to_string(m.rows + m.cols) + " for rows then columns") +
-               ")");
-    }
+// DOF-map sidecar: one line per row (a square matrix: rows and columns alike), or rows then
+// columns.
+void AttachDofMap(const std::string& dof_csv, const std::string& path, FeMatrix& m) {
+  std::vector<DofId> dofs = fe_text::ReadDofCsv(dof_csv);
+  const int64_t n = static_cast<int64_t>(dofs.size());
+  if (n == m.rows && m.rows == m.cols) {
+    m.row_dofs = dofs;
+    m.col_dofs = std::move(dofs);
+  } else if (n == m.rows + m.cols && n > 0) {
+    m.row_dofs.assign(dofs.begin(), dofs.begin() + m.rows);
+    m.col_dofs.assign(dofs.begin() + m.rows, dofs.end());
+  } else if (n == m.rows) {
+    m.row_dofs = std::move(dofs);
+  } else {
+    Fail(dof_csv, 0,
+         "DOF map has " + std::to_string(n) + " entries but the matrix " + path + " is " +
+             std::to_string(m.rows) + " x " + std::to_string(m.cols) + " (expected " +
+             std::to_string(m.rows) + " lines for the rows" +
+             (m.rows == m.cols
+                  ? ""
+                  : ", or " + std::to_string(m.rows + m.cols) + " for rows then columns") +
+             ")");
   }
+}
+
+}  // namespace
+
+FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv,
+                         const FeReadOptions& options) {
+  const std::string text = fe_text::ReadCompleteTextFile(path, "Matrix Market file");
+  FeModel model;
+  model.source = path;
+  model.format = "matrix-market";
+  // Filled in place: moving a FeMatrix copies Eigen's per-column index (O(cols) memory).
+  FeMatrix& m = model.matrices.emplace_back();
+  m.name = std::filesystem::path(path).stem().string();
+
+  Cursor c;
+  c.text = text;
+  ReadBanner(path, c, m);
+  const int64_t nnz = ReadSizeLine(path, c, m);
+  const std::vector<fe_text::TextEntry> entries = ReadEntries(path, c, m, nnz);
+  fe_text::AssembleEntries(path, entries, m.symmetric, m, {}, options);
+  if (!dof_csv.empty()) AttachDofMap(dof_csv, path, m);
   fe_text::KeepOnly(path, options, model);
   return model;
 }
