@@ -113,23 +113,65 @@ DofId ReadDof(std::string_view node, std::string_view dof, const std::string& pa
   return d;
 }
 
-}  // namespace
-
-FeModel ReadAbaqusMatrix(const std::string& path, const FeReadOptions& options) {
-  const std::string text = fe_text::ReadCompleteTextFile(path, "Abaqus matrix file");
-  FeModel model;
-  model.source = path;
-  model.format = "abaqus";
-  // Filled in place: moving a FeMatrix copies Eigen's per-column index (O(cols) memory).
-  FeMatrix& m = model.matrices.emplace_back();
-  m.name = std::filesystem::path(path).stem().string();
-
-  std::vector<std::string_view> tokens;
-  size_t pos = 0, number = 0, columns = 0, first_line = 0;
-  std::string_view line;
+// What the entry lines give: the entries, with node-DOF ids (5 fields) or 0-based equation
+// numbers (3 fields), and what the checked path needs to tell a line apart from the first.
+struct Scan {
   std::vector<fe_text::TextEntry> entries;  // node-DOF form: row, col are ids from `dof_ids`
   DofIds dof_ids;
-  int64_t max_index = 0;
+  int64_t max_index = 0;  // largest 1-based equation number (3 fields)
+  size_t columns = 0;     // fields per line, set by the first entry line
+  size_t first_line = 0;
+  std::vector<std::string_view> tokens;
+};
+
+// Checked path: the first entry line (it sets the field count), and any line the fast path
+// does not take; reports the error of a bad line.
+void ReadCheckedLine(const std::string& path, std::string_view t, size_t number, Scan& s,
+                     fe_text::TextEntry& e) {
+  std::vector<std::string_view>& tokens = s.tokens;
+  fe_text::SplitTokens(t, tokens);
+  if (s.columns == 0) {
+    if (tokens.size() != 5 && tokens.size() != 3) {
+      Fail(path, number,
+           "expected 5 fields 'rownode,rowdof, colnode,coldof, value' or 3 fields 'row col "
+           "value', got " +
+               std::to_string(tokens.size()) + " fields");
+    }
+    s.columns = tokens.size();
+    s.first_line = number;
+  } else if (tokens.size() != s.columns) {
+    Fail(path, number,
+         "expected " + std::to_string(s.columns) + " fields as on line " +
+             std::to_string(s.first_line) + ", got " + std::to_string(tokens.size()) +
+             (tokens.size() < s.columns ? " (truncated line?)" : ""));
+  }
+  if (s.columns == 5) {
+    const DofId row = ReadDof(tokens[0], tokens[1], path, number, "row");
+    const DofId col = ReadDof(tokens[2], tokens[3], path, number, "column");
+    e.re = fe_text::RequireReal(tokens[4], false, path, number, "the matrix value");
+    e.row = s.dof_ids.Id(row);
+    e.col = s.dof_ids.Id(col);
+    s.entries.push_back(e);
+  } else {
+    e.row = fe_text::RequireInt(tokens[0], path, number, "a row number") - 1;
+    e.col = fe_text::RequireInt(tokens[1], path, number, "a column number") - 1;
+    if (e.row < 0 || e.col < 0 || e.row >= fe_text::kMaxDimension ||
+        e.col >= fe_text::kMaxDimension) {
+      Fail(path, number,
+           "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
+               std::to_string(e.col + 1) + " (expected 1-based indices 1.." +
+               std::to_string(fe_text::kMaxDimension) + ")");
+    }
+    e.re = fe_text::RequireReal(tokens[2], false, path, number, "the matrix value");
+    s.max_index = std::max({s.max_index, e.row + 1, e.col + 1});
+    s.entries.push_back(e);
+  }
+}
+
+// Every entry line of the file, through the fast path when it reads the line.
+void ScanEntries(const std::string& path, std::string_view text, Scan& s) {
+  size_t pos = 0, number = 0;
+  std::string_view line;
   while (fe_text::NextLine(text, pos, line)) {
     ++number;
     const std::string_view t = fe_text::Trim(line);
@@ -141,104 +183,92 @@ FeModel ReadAbaqusMatrix(const std::string& path, const FeReadOptions& options) 
     }
     fe_text::TextEntry e;
     e.line = number;
-    if (columns == 5) {
+    if (s.columns == 5) {
       int64_t v[4];
       if (FastFields(t, v, e.re) && ValidDof(v[0], v[1]) && ValidDof(v[2], v[3])) {
-        e.row = dof_ids.Id(DofId{v[0], static_cast<int>(v[1])});
-        e.col = dof_ids.Id(DofId{v[2], static_cast<int>(v[3])});
-        entries.push_back(e);
+        e.row = s.dof_ids.Id(DofId{v[0], static_cast<int>(v[1])});
+        e.col = s.dof_ids.Id(DofId{v[2], static_cast<int>(v[3])});
+        s.entries.push_back(e);
         continue;
       }
-    } else if (columns == 3) {
+    } else if (s.columns == 3) {
       int64_t v[2];
       if (FastFields(t, v, e.re) && v[0] >= 1 && v[0] <= fe_text::kMaxDimension && v[1] >= 1 &&
           v[1] <= fe_text::kMaxDimension) {
         e.row = v[0] - 1;
         e.col = v[1] - 1;
-        max_index = std::max({max_index, v[0], v[1]});
-        entries.push_back(e);
+        s.max_index = std::max({s.max_index, v[0], v[1]});
+        s.entries.push_back(e);
         continue;
       }
     }
-    // Checked path: the first entry line, and any line the fast path does not take.
-    fe_text::SplitTokens(t, tokens);
-    if (columns == 0) {
-      if (tokens.size() != 5 && tokens.size() != 3) {
-        Fail(path, number,
-             "expected 5 fields 'rownode,rowdof, colnode,coldof, value' or 3 fields 'row col "
-             "value', got " +
-                 std::to_string(tokens.size()) + " fields");
-      }
-      columns = tokens.size();
-      first_line = number;
-    } else if (tokens.size() != columns) {
-      Fail(path, number,
-           "expected " + std::to_string(columns) + " fields as on line " +
-               std::to_string(first_line) + ", got " + std::to_string(tokens.size()) +
-               (tokens.size() < columns ? " (truncated line?)" : ""));
-    }
-    if (columns == 5) {
-      const DofId row = ReadDof(tokens[0], tokens[1], path, number, "row");
-      const DofId col = ReadDof(tokens[2], tokens[3], path, number, "column");
-      e.re = fe_text::RequireReal(tokens[4], false, path, number, "the matrix value");
-      e.row = dof_ids.Id(row);
-      e.col = dof_ids.Id(col);
-      entries.push_back(e);
-    } else {
-      e.row = fe_text::RequireInt(tokens[0], path, number, "a row number") - 1;
-      e.col = fe_text::RequireInt(tokens[1], path, number, "a column number") - 1;
-      if (e.row < 0 || e.col < 0 || e.row >= fe_text::kMaxDimension ||
-          e.col >= fe_text::kMaxDimension) {
-        Fail(path, number,
-             "entry index out of range: row " + std::to_string(e.row + 1) + ", column " +
-                 std::to_string(e.col + 1) + " (expected 1-based indices 1.." +
-                 std::to_string(fe_text::kMaxDimension) + ")");
-      }
-      e.re = fe_text::RequireReal(tokens[2], false, path, number, "the matrix value");
-      max_index = std::max({max_index, e.row + 1, e.col + 1});
-      entries.push_back(e);
-    }
+    ReadCheckedLine(path, t, number, s, e);
   }
-  if (columns == 0) Fail(path, number, "no matrix entries (empty file)");
+  if (s.columns == 0) Fail(path, number, "no matrix entries (empty file)");
+}
 
-  if (columns == 5) {
-    // DOF map: every (node, dof) that appears, sorted by signed node label then dof.
-    const std::vector<DofId>& seen = dof_ids.dofs();
-    std::vector<size_t> by_dof(seen.size());
-    std::iota(by_dof.begin(), by_dof.end(), size_t{0});
-    std::sort(by_dof.begin(), by_dof.end(),
-              [&](size_t a, size_t b) { return fe_text::DofLess(seen[a], seen[b]); });
-    std::vector<DofId> dofs(seen.size());
-    std::vector<int64_t> rank(seen.size());
-    for (size_t k = 0; k < by_dof.size(); ++k) {
-      dofs[k] = seen[by_dof[k]];
-      rank[by_dof[k]] = static_cast<int64_t>(k);
+// Node-DOF form: the DOF map is every (node, dof) that appears, sorted by signed node label then
+// dof; the entries' ids become indices into it.
+void NumberNodeDofs(Scan& s, FeMatrix& m) {
+  const std::vector<DofId>& seen = s.dof_ids.dofs();
+  std::vector<size_t> by_dof(seen.size());
+  std::iota(by_dof.begin(), by_dof.end(), size_t{0});
+  std::sort(by_dof.begin(), by_dof.end(),
+            [&](size_t a, size_t b) { return fe_text::DofLess(seen[a], seen[b]); });
+  std::vector<DofId> dofs(seen.size());
+  std::vector<int64_t> rank(seen.size());
+  for (size_t k = 0; k < by_dof.size(); ++k) {
+    dofs[k] = seen[by_dof[k]];
+    rank[by_dof[k]] = static_cast<int64_t>(k);
+  }
+  for (fe_text::TextEntry& e : s.entries) {
+    e.row = rank[static_cast<size_t>(e.row)];
+    e.col = rank[static_cast<size_t>(e.col)];
+  }
+  m.rows = m.cols = static_cast<int64_t>(dofs.size());
+  m.row_dofs = m.col_dofs = dofs;
+}
+
+// Coordinate form: the size and DOF map come from the sidecar when there is one, else the size
+// is the largest equation number used.
+void SizeCoordinateMatrix(const std::string& path, int64_t max_index, FeMatrix& m) {
+  const std::string sidecar = fe_text::DefaultDofSidecar(path);
+  if (std::filesystem::exists(sidecar)) {
+    std::vector<DofId> dofs = fe_text::ReadDofCsv(sidecar);
+    if (static_cast<int64_t>(dofs.size()) < max_index) {
+      Fail(sidecar, 0,
+           "DOF map has " + std::to_string(dofs.size()) + " entries but the matrix " + path +
+               " uses index " + std::to_string(max_index) +
+               " (expected one node,component line per matrix row)");
     }
-    for (fe_text::TextEntry& e : entries) {
-      e.row = rank[static_cast<size_t>(e.row)];
-      e.col = rank[static_cast<size_t>(e.col)];
-    }
-    m.rows = m.cols = static_cast<int64_t>(dofs.size());
     m.row_dofs = m.col_dofs = dofs;
+    m.rows = m.cols = static_cast<int64_t>(dofs.size());
   } else {
-    const std::string sidecar = fe_text::DefaultDofSidecar(path);
-    if (std::filesystem::exists(sidecar)) {
-      std::vector<DofId> dofs = fe_text::ReadDofCsv(sidecar);
-      if (static_cast<int64_t>(dofs.size()) < max_index) {
-        Fail(sidecar, 0,
-             "DOF map has " + std::to_string(dofs.size()) + " entries but the matrix " + path +
-                 " uses index " + std::to_string(max_index) +
-                 " (expected one node,component line per matrix row)");
-      }
-      m.row_dofs = m.col_dofs = dofs;
-      m.rows = m.cols = static_cast<int64_t>(dofs.size());
-    } else {
-      m.rows = m.cols = max_index;
-    }
+    m.rows = m.cols = max_index;
+  }
+}
+
+}  // namespace
+
+FeModel ReadAbaqusMatrix(const std::string& path, const FeReadOptions& options) {
+  const std::string text = fe_text::ReadCompleteTextFile(path, "Abaqus matrix file");
+  FeModel model;
+  model.source = path;
+  model.format = "abaqus";
+  // Filled in place: moving a FeMatrix copies Eigen's per-column index (O(cols) memory).
+  FeMatrix& m = model.matrices.emplace_back();
+  m.name = std::filesystem::path(path).stem().string();
+
+  Scan s;
+  ScanEntries(path, text, s);
+  if (s.columns == 5) {
+    NumberNodeDofs(s, m);
+  } else {
+    SizeCoordinateMatrix(path, s.max_index, m);
   }
   // One triangle of a symmetric matrix unless some entry also appears transposed (then the file
   // holds a full, possibly unsymmetric, matrix and is taken as it is).
-  m.symmetric = !fe_text::HasTransposePair(entries);
+  m.symmetric = !fe_text::HasTransposePair(s.entries);
   std::function<std::string(int64_t, int64_t)> describe;
   if (!m.row_dofs.empty()) {
     describe = [&](int64_t r, int64_t c) {
@@ -246,7 +276,7 @@ FeModel ReadAbaqusMatrix(const std::string& path, const FeReadOptions& options) 
              fe_text::DescribeDof(m.col_dofs[static_cast<size_t>(c)]) + ")";
     };
   }
-  fe_text::AssembleEntries(path, entries, m.symmetric, m, describe, options);
+  fe_text::AssembleEntries(path, s.entries, m.symmetric, m, describe, options);
   fe_text::KeepOnly(path, options, model);
   return model;
 }
