@@ -161,6 +161,141 @@ void AddToSet(DeckState& st, size_t set, int64_t node, const std::string& file, 
   }
 }
 
+void ReadDeck(const std::string& path, DeckState& st, int depth);
+
+// *INCLUDE, INPUT=<file>: the file is read in place, relative to the including one; its errors
+// name the line that included it.
+void IncludeDeck(const Keyword& k, const std::string& path, size_t number, DeckState& st,
+                 int depth) {
+  const auto it = k.params.find("INPUT");
+  if (it == k.params.end() || it->second.empty()) {
+    Fail(path, number, "*INCLUDE without INPUT=<file>");
+  }
+  std::filesystem::path inc(it->second);
+  if (inc.is_relative()) inc = std::filesystem::path(path).parent_path() / inc;
+  try {
+    ReadDeck(inc.string(), st, depth + 1);
+  } catch (const FeReadError& e) {
+    throw FeReadError(std::string(e.what()) + " (included from " + path + ":" +
+                      std::to_string(number) + ")");
+  }
+}
+
+void StartNodeBlock(DeckState& st, const Keyword& k, const std::string& path, size_t number) {
+  const auto sys = k.params.find("SYSTEM");
+  if (sys != k.params.end() && fe_text::Upper(sys->second) != "R") {
+    Fail(path, number,
+         "*NODE, SYSTEM=" + sys->second +
+             " is not supported: expected rectangular coordinates (SYSTEM=R or none)");
+  }
+  if (k.params.count("INPUT")) {
+    Fail(path, number, "*NODE, INPUT=<file> is not supported: use *INCLUDE, INPUT=<file>");
+  }
+  st.block = DeckState::Block::kNode;
+  const auto nset = k.params.find("NSET");
+  st.node_has_set = nset != k.params.end();
+  if (st.node_has_set) st.current_set = SetFor(st, nset->second, path, number);
+}
+
+void StartNsetBlock(DeckState& st, const Keyword& k, const std::string& path, size_t number) {
+  const auto nset = k.params.find("NSET");
+  if (nset == k.params.end()) Fail(path, number, "*NSET without NSET=<name>");
+  if (k.params.count("ELSET")) {
+    Fail(path, number,
+         "*NSET, ELSET=... (nodes of an element set) is not supported: list the nodes");
+  }
+  st.current_set = SetFor(st, nset->second, path, number);
+  st.block = k.params.count("GENERATE") ? DeckState::Block::kNsetGenerate : DeckState::Block::kNset;
+}
+
+// A keyword line `t`: it ends the block in force and may start one of the blocks read here.
+void KeywordLine(std::string_view t, const std::string& path, size_t number, DeckState& st,
+                 int depth) {
+  if (st.element_open) {
+    Fail(path, number,
+         "element " + std::to_string(st.model->elements.back().id) +
+             " is not complete: its last data line ended in a comma, then a keyword came");
+  }
+  const Keyword k = ParseKeyword(t);
+  if (k.name != "INCLUDE") st.block = DeckState::Block::kSkip;
+  if (k.name == "INCLUDE") {
+    IncludeDeck(k, path, number, st, depth);
+  } else if (k.name == "NODE") {
+    StartNodeBlock(st, k, path, number);
+  } else if (k.name == "NSET") {
+    StartNsetBlock(st, k, path, number);
+  } else if (k.name == "ELEMENT") {
+    StartElementBlock(st, k, path, number);
+  }
+}
+
+// One data line under *NODE: "id, x[, y[, z]]".
+void NodeLine(DeckState& st, std::string_view t, const std::vector<std::string_view>& tokens,
+              const std::string& path, size_t number) {
+  if (tokens.size() < 2 || tokens.size() > 4) {
+    Fail(path, number, "expected 'node id, x[, y[, z]]' under *NODE, got " + fe_text::Printable(t));
+  }
+  FeNode node;
+  node.id = fe_text::RequireInt(tokens[0], path, number, "a node id");
+  if (node.id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(node.id));
+  for (size_t c = 1; c < tokens.size(); ++c) {
+    node.xyz[static_cast<int>(c - 1)] =
+        fe_text::RequireReal(tokens[c], false, path, number, "a node coordinate [m]");
+  }
+  if (!st.node_index.emplace(node.id, st.model->nodes.size()).second) {
+    Fail(path, number, "node " + std::to_string(node.id) + " defined twice");
+  }
+  st.model->nodes.push_back(node);
+  if (st.node_has_set) AddToSet(st, st.current_set, node.id, path, number);
+}
+
+// One data line under *NSET, GENERATE: "first, last[, increment]".
+void NsetGenerateLine(DeckState& st, std::string_view t,
+                      const std::vector<std::string_view>& tokens, const std::string& path,
+                      size_t number) {
+  if (tokens.size() < 2 || tokens.size() > 3) {
+    Fail(path, number,
+         "expected 'first, last[, increment]' under *NSET, GENERATE, got " + fe_text::Printable(t));
+  }
+  const int64_t first = fe_text::RequireInt(tokens[0], path, number, "the first node id");
+  const int64_t last = fe_text::RequireInt(tokens[1], path, number, "the last node id");
+  const int64_t step =
+      tokens.size() == 3 ? fe_text::RequireInt(tokens[2], path, number, "the increment") : 1;
+  if (first <= 0 || last < first || step <= 0) {
+    Fail(path, number,
+         "expected 0 < first <= last and increment > 0 under *NSET, GENERATE, got " +
+             fe_text::Printable(t));
+  }
+  const int64_t count = (last - first) / step + 1;  // no overflow: 0 < first <= last
+  if (count > kMaxGenerateLine) {
+    Fail(path, number,
+         "*NSET, GENERATE range of " + std::to_string(count) + " nodes exceeds the limit of " +
+             std::to_string(kMaxGenerateLine) + " per line");
+  }
+  for (int64_t k = 0; k < count; ++k) AddToSet(st, st.current_set, first + k * step, path, number);
+}
+
+// One data line under *NSET: node ids or names of sets defined before.
+void NsetLine(DeckState& st, const std::vector<std::string_view>& tokens, const std::string& path,
+              size_t number) {
+  for (const std::string_view tok : tokens) {
+    int64_t id = 0;
+    if (fe_text::ParseInt(tok, id)) {
+      if (id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(id));
+      AddToSet(st, st.current_set, id, path, number);
+      continue;
+    }
+    const auto it = st.set_index.find(fe_text::Upper(tok));
+    if (it == st.set_index.end()) {
+      Fail(path, number,
+           "expected a node id or the name of a node set defined above, got " +
+               fe_text::Printable(tok));
+    }
+    const std::vector<int64_t> members = st.model->node_sets[it->second].nodes;
+    for (const int64_t n : members) AddToSet(st, st.current_set, n, path, number);
+  }
+}
+
 void ReadDeck(const std::string& path, DeckState& st, int depth) {
   if (depth > kMaxIncludeDepth) {
     Fail(path, 0,
@@ -169,9 +304,6 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
   }
   const std::string text = fe_text::ReadWholeFile(path, "Abaqus/CalculiX input deck (.inp)");
   using Block = DeckState::Block;
-  Block& block = st.block;
-  size_t& current_set = st.current_set;
-  bool& node_has_set = st.node_has_set;
   size_t pos = 0, number = 0;
   std::string_view line;
   std::vector<std::string_view> tokens;
@@ -180,115 +312,19 @@ void ReadDeck(const std::string& path, DeckState& st, int depth) {
     const std::string_view t = fe_text::Trim(line);
     if (t.empty() || t.rfind("**", 0) == 0) continue;
     if (t.front() == '*') {
-      if (st.element_open) {
-        Fail(path, number,
-             "element " + std::to_string(st.model->elements.back().id) +
-                 " is not complete: its last data line ended in a comma, then a keyword came");
-      }
-      const Keyword k = ParseKeyword(t);
-      if (k.name != "INCLUDE") block = Block::kSkip;
-      if (k.name == "INCLUDE") {
-        const auto it = k.params.find("INPUT");
-        if (it == k.params.end() || it->second.empty()) {
-          Fail(path, number, "*INCLUDE without INPUT=<file>");
-        }
-        std::filesystem::path inc(it->second);
-        if (inc.is_relative()) inc = std::filesystem::path(path).parent_path() / inc;
-        try {
-          ReadDeck(inc.string(), st, depth + 1);
-        } catch (const FeReadError& e) {
-          throw FeReadError(std::string(e.what()) + " (included from " + path + ":" +
-                            std::to_string(number) + ")");
-        }
-      } else if (k.name == "NODE") {
-        const auto sys = k.params.find("SYSTEM");
-        if (sys != k.params.end() && fe_text::Upper(sys->second) != "R") {
-          Fail(path, number,
-               "*NODE, SYSTEM=" + sys->second +
-                   " is not supported: expected rectangular coordinates (SYSTEM=R or none)");
-        }
-        if (k.params.count("INPUT")) {
-          Fail(path, number, "*NODE, INPUT=<file> is not supported: use *INCLUDE, INPUT=<file>");
-        }
-        block = Block::kNode;
-        const auto nset = k.params.find("NSET");
-        node_has_set = nset != k.params.end();
-        if (node_has_set) current_set = SetFor(st, nset->second, path, number);
-      } else if (k.name == "NSET") {
-        const auto nset = k.params.find("NSET");
-        if (nset == k.params.end()) Fail(path, number, "*NSET without NSET=<name>");
-        if (k.params.count("ELSET")) {
-          Fail(path, number,
-               "*NSET, ELSET=... (nodes of an element set) is not supported: list the nodes");
-        }
-        current_set = SetFor(st, nset->second, path, number);
-        block = k.params.count("GENERATE") ? Block::kNsetGenerate : Block::kNset;
-      } else if (k.name == "ELEMENT") {
-        StartElementBlock(st, k, path, number);
-      }
+      KeywordLine(t, path, number, st, depth);
       continue;
     }
-    if (block == Block::kNone || block == Block::kSkip) continue;
+    if (st.block == Block::kNone || st.block == Block::kSkip) continue;
     fe_text::SplitTokens(t, tokens);
-    if (block == Block::kElement) {
+    if (st.block == Block::kElement) {
       ElementLine(st, t, tokens, path, number);
-    } else if (block == Block::kNode) {
-      if (tokens.size() < 2 || tokens.size() > 4) {
-        Fail(path, number,
-             "expected 'node id, x[, y[, z]]' under *NODE, got " + fe_text::Printable(t));
-      }
-      FeNode node;
-      node.id = fe_text::RequireInt(tokens[0], path, number, "a node id");
-      if (node.id <= 0)
-        Fail(path, number, "expected a node id > 0, got " + std::to_string(node.id));
-      for (size_t c = 1; c < tokens.size(); ++c) {
-        node.xyz[static_cast<int>(c - 1)] =
-            fe_text::RequireReal(tokens[c], false, path, number, "a node coordinate [m]");
-      }
-      if (!st.node_index.emplace(node.id, st.model->nodes.size()).second) {
-        Fail(path, number, "node " + std::to_string(node.id) + " defined twice");
-      }
-      st.model->nodes.push_back(node);
-      if (node_has_set) AddToSet(st, current_set, node.id, path, number);
-    } else if (block == Block::kNsetGenerate) {
-      if (tokens.size() < 2 || tokens.size() > 3) {
-        Fail(path, number,
-             "expected 'first, last[, increment]' under *NSET, GENERATE, got " +
-                 fe_text::Printable(t));
-      }
-      const int64_t first = fe_text::RequireInt(tokens[0], path, number, "the first node id");
-      const int64_t last = fe_text::RequireInt(tokens[1], path, number, "the last node id");
-      const int64_t step =
-          tokens.size() == 3 ? fe_text::RequireInt(tokens[2], path, number, "the increment") : 1;
-      if (first <= 0 || last < first || step <= 0) {
-        Fail(path, number,
-             "expected 0 < first <= last and increment > 0 under *NSET, GENERATE, got " +
-                 fe_text::Printable(t));
-      }
-      const int64_t count = (last - first) / step + 1;  // no overflow: 0 < first <= last
-      if (count > kMaxGenerateLine) {
-        Fail(path, number,
-             "*NSET, GENERATE range of " + std::to_string(count) + " nodes exceeds the limit of " +
-                 std::to_string(kMaxGenerateLine) + " per line");
-      }
-      for (int64_t k = 0; k < count; ++k) AddToSet(st, current_set, first + k * step, path, number);
-    } else {  // kNset: node ids or names of sets defined before
-      for (const std::string_view tok : tokens) {
-        int64_t id = 0;
-        if (fe_text::ParseInt(tok, id)) {
-          if (id <= 0) Fail(path, number, "expected a node id > 0, got " + std::to_string(id));
-          AddToSet(st, current_set, id, path, number);
-          continue;
-        }
-        const auto it = st.set_index.find(fe_text::Upper(tok));
-        if (it == st.set_index.end()) {
-          Fail(path, number,
-               "expected a node id or the name of a node set defined above, got " +
-                   fe_text::Printable(tok));
-        }
-        const std::vector<int64_t> members = st.model->node_sets[it->second].nodes;
-        for (const int64_t n : members) AddToSet(st, current_set, n, path, number);
-      }
+    } else if (st.block == Block::kNode) {
+      NodeLine(st, t, tokens, path, number);
+    } else if (st.block == Block::kNsetGenerate) {
+      NsetGenerateLine(st, t, tokens, path, number);
+    } else {
+      NsetLine(st, tokens, path, number);
     }
   }
 }
