@@ -142,8 +142,17 @@ class BinaryOp4 {
     return r;
   }
 
-  FeMatrix ReadMatrix() {
-    const size_t header_at = pos_;
+  // How the column records of one matrix store their numbers.
+  struct ColumnFormat {
+    const Header& h;
+    size_t w;          // bytes per word
+    int value_bytes;   // bytes per real number
+    int64_t unit;      // words per entry (complex: two numbers)
+    std::string what;  // "column record of matrix 'NAME'", for errors
+  };
+
+  // The header record of the matrix starting at `header_at` (the current position).
+  Header ReadHeader(size_t header_at) {
     const Record hr = NextRecord("a matrix header");
     const auto ib = static_cast<size_t>(layout_.int_bytes);
     const size_t want = 4 * ib + static_cast<size_t>(layout_.name_bytes);
@@ -162,110 +171,130 @@ class BinaryOp4 {
         !err.empty()) {
       Fail(header_at, err);
     }
-    MatrixBuilder b(h, fe_text::Wanted(options_, h.name));
+    return h;
+  }
 
-    const bool wide = layout_.int_bytes == 8;
-    const auto w = static_cast<size_t>(layout_.int_bytes);  // bytes per word
-    const int wpn = h.WordsPerNumber(wide);                 // words per number
-    const int value_bytes = (h.type == 1 || h.type == 3) ? layout_.int_bytes : 8;
-    const int64_t unit = static_cast<int64_t>(wpn) * (h.Complex() ? 2 : 1);  // words per entry
-    const std::string what = "column record of matrix '" + h.name + "'";
+  // Reads `count` entries at byte `p` into column `col` starting at row `row`.
+  void Values(const ColumnFormat& f, MatrixBuilder& b, size_t p, int64_t col, int64_t row,
+              int64_t count) const {
+    const size_t step = static_cast<size_t>(f.unit) * f.w;
+    for (int64_t k = 0; k < count; ++k, p += step) {
+      const double re = Real(p, f.value_bytes);
+      const double im =
+          f.h.Complex() ? Real(p + static_cast<size_t>(f.value_bytes), f.value_bytes) : 0.0;
+      if (!std::isfinite(re) || !std::isfinite(im)) {
+        Fail(p, "matrix '" + f.h.name + "': expected a finite number at row " +
+                    std::to_string(row + k) + ", column " + std::to_string(col) +
+                    ", found NaN or infinity");
+      }
+      b.Add(row + k, col, re, im);
+    }
+  }
 
-    // Reads `count` entries at byte `p` into column `col` starting at row `row`.
-    auto values = [&](size_t p, int64_t col, int64_t row, int64_t count) {
-      const size_t step = static_cast<size_t>(unit) * w;
-      for (int64_t k = 0; k < count; ++k, p += step) {
-        const double re = Real(p, value_bytes);
-        const double im =
-            h.Complex() ? Real(p + static_cast<size_t>(value_bytes), value_bytes) : 0.0;
-        if (!std::isfinite(re) || !std::isfinite(im)) {
-          Fail(p, "matrix '" + h.name + "': expected a finite number at row " +
-                      std::to_string(row + k) + ", column " + std::to_string(col) +
-                      ", found NaN or infinity");
+  // The strings of consecutive rows of a sparse column record: `nwords` words from byte `p`.
+  void SparseStrings(const ColumnFormat& f, MatrixBuilder& b, size_t p, int64_t icol,
+                     int64_t nwords) const {
+    const Header& h = f.h;
+    const size_t w = f.w;
+    int64_t left = nwords;
+    while (left > 0) {
+      const size_t string_at = p;
+      int64_t words = 0;
+      int64_t row = 0;
+      int64_t head = 0;
+      if (h.bigmat) {
+        if (left < 2) {
+          Fail(p, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                      ": expected a 2-word bigmat string header, only " + std::to_string(left) +
+                      " word left in the record");
         }
-        b.Add(row + k, col, re, im);
-      }
-    };
-
-    for (;;) {
-      const size_t rec_at = pos_;
-      const Record r = NextRecord("a " + what);
-      if (r.size < 3 * w) {
-        Fail(rec_at, "expected a " + what + " of at least " + std::to_string(3 * w) +
-                         " bytes, found " + std::to_string(r.size) + " bytes");
-      }
-      const int64_t icol = Int(r.begin);
-      const int64_t irow = Int(r.begin + w);
-      const int64_t nwords = Int(r.begin + 2 * w);
-      if (icol == h.cols + 1) break;  // end-of-matrix record; its dummy value is not used
-      if (std::string err = b.StartColumn(icol); !err.empty()) Fail(r.begin, err);
-      const size_t data_bytes = r.size - 3 * w;
-      if (nwords < 0 || data_bytes % w != 0 || static_cast<uint64_t>(nwords) != data_bytes / w) {
-        Fail(r.begin + 2 * w,
-             "matrix '" + h.name + "', column " + std::to_string(icol) + ": word count " +
-                 std::to_string(nwords) + " does not match the record length (" +
-                 std::to_string(data_bytes) + " data bytes, " + std::to_string(w) + " per word)");
-      }
-      size_t p = r.begin + 3 * w;
-      if (irow > 0) {  // dense: consecutive rows from irow
-        if (nwords % unit != 0) {
-          Fail(r.begin + 2 * w, "matrix '" + h.name + "', column " + std::to_string(icol) +
-                                    ": word count " + std::to_string(nwords) +
-                                    " is not a multiple of " + std::to_string(unit) +
-                                    " words per entry");
-        }
-        const int64_t count = nwords / unit;
-        if (std::string err = b.BeginRun(irow, count); !err.empty()) Fail(r.begin + w, err);
-        values(p, icol, irow, count);
-      } else if (irow == 0) {  // sparse: strings of consecutive rows
-        int64_t left = nwords;
-        while (left > 0) {
-          const size_t string_at = p;
-          int64_t words = 0;
-          int64_t row = 0;
-          int64_t head = 0;
-          if (h.bigmat) {
-            if (left < 2) {
-              Fail(p, "matrix '" + h.name + "', column " + std::to_string(icol) +
-                          ": expected a 2-word bigmat string header, only " + std::to_string(left) +
-                          " word left in the record");
-            }
-            const int64_t len = Int(p);
-            row = Int(p + w);
-            words = len < 1 ? 0 : len - 1;  // len < 2 is rejected below
-            head = 2;
-          } else {
-            const int64_t is = Int(p);
-            if (is <= 0) {
-              Fail(p, "matrix '" + h.name + "', column " + std::to_string(icol) +
-                          ": bad sparse string header " + std::to_string(is));
-            }
-            words = (is >> 16) - 1;
-            row = is & 0xFFFF;
-            head = 1;
-          }
-          if (words < 1 || words > left - head || words % unit != 0) {
-            Fail(string_at, "matrix '" + h.name + "', column " + std::to_string(icol) +
-                                ": bad sparse string length " + std::to_string(words) +
-                                " words (expected a positive multiple of " + std::to_string(unit) +
-                                " within the " + std::to_string(left) +
-                                " words left in the record)");
-          }
-          const int64_t count = words / unit;
-          if (std::string err = b.BeginRun(row, count); !err.empty()) Fail(string_at, err);
-          p += static_cast<size_t>(head) * w;
-          values(p, icol, row, count);
-          p += static_cast<size_t>(words) * w;
-          left -= head + words;
-        }
+        const int64_t len = Int(p);
+        row = Int(p + w);
+        words = len < 1 ? 0 : len - 1;  // len < 2 is rejected below
+        head = 2;
       } else {
-        Fail(r.begin + w, "matrix '" + h.name + "', column " + std::to_string(icol) +
-                              ": negative row index " + std::to_string(irow));
+        const int64_t is = Int(p);
+        if (is <= 0) {
+          Fail(p, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                      ": bad sparse string header " + std::to_string(is));
+        }
+        words = (is >> 16) - 1;
+        row = is & 0xFFFF;
+        head = 1;
       }
+      if (words < 1 || words > left - head || words % f.unit != 0) {
+        Fail(string_at, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                            ": bad sparse string length " + std::to_string(words) +
+                            " words (expected a positive multiple of " + std::to_string(f.unit) +
+                            " within the " + std::to_string(left) + " words left in the record)");
+      }
+      const int64_t count = words / f.unit;
+      if (std::string err = b.BeginRun(row, count); !err.empty()) Fail(string_at, err);
+      p += static_cast<size_t>(head) * w;
+      Values(f, b, p, icol, row, count);
+      p += static_cast<size_t>(words) * w;
+      left -= head + words;
+    }
+  }
+
+  // One column record, dense or sparse; false for the end-of-matrix record (its dummy value is
+  // not used).
+  bool ReadColumn(const ColumnFormat& f, MatrixBuilder& b) {
+    const Header& h = f.h;
+    const size_t w = f.w;
+    const size_t rec_at = pos_;
+    const Record r = NextRecord("a " + f.what);
+    if (r.size < 3 * w) {
+      Fail(rec_at, "expected a " + f.what + " of at least " + std::to_string(3 * w) +
+                       " bytes, found " + std::to_string(r.size) + " bytes");
+    }
+    const int64_t icol = Int(r.begin);
+    const int64_t irow = Int(r.begin + w);
+    const int64_t nwords = Int(r.begin + 2 * w);
+    if (icol == h.cols + 1) return false;
+    if (std::string err = b.StartColumn(icol); !err.empty()) Fail(r.begin, err);
+    const size_t data_bytes = r.size - 3 * w;
+    if (nwords < 0 || data_bytes % w != 0 || static_cast<uint64_t>(nwords) != data_bytes / w) {
+      Fail(r.begin + 2 * w, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                                ": word count " + std::to_string(nwords) +
+                                " does not match the record length (" + std::to_string(data_bytes) +
+                                " data bytes, " + std::to_string(w) + " per word)");
+    }
+    const size_t p = r.begin + 3 * w;
+    if (irow > 0) {  // dense: consecutive rows from irow
+      if (nwords % f.unit != 0) {
+        Fail(r.begin + 2 * w, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                                  ": word count " + std::to_string(nwords) +
+                                  " is not a multiple of " + std::to_string(f.unit) +
+                                  " words per entry");
+      }
+      const int64_t count = nwords / f.unit;
+      if (std::string err = b.BeginRun(irow, count); !err.empty()) Fail(r.begin + w, err);
+      Values(f, b, p, icol, irow, count);
+    } else if (irow == 0) {  // sparse: strings of consecutive rows
+      SparseStrings(f, b, p, icol, nwords);
+    } else {
+      Fail(r.begin + w, "matrix '" + h.name + "', column " + std::to_string(icol) +
+                            ": negative row index " + std::to_string(irow));
+    }
+    return true;
+  }
+
+  FeMatrix ReadMatrix() {
+    const size_t header_at = pos_;
+    const Header h = ReadHeader(header_at);
+    MatrixBuilder b(h, fe_text::Wanted(options_, h.name));
+    const bool wide = layout_.int_bytes == 8;
+    const int wpn = h.WordsPerNumber(wide);  // words per number
+    const ColumnFormat f{h, static_cast<size_t>(layout_.int_bytes),
+                         (h.type == 1 || h.type == 3) ? layout_.int_bytes : 8,
+                         static_cast<int64_t>(wpn) * (h.Complex() ? 2 : 1),
+                         "column record of matrix '" + h.name + "'"};
+    while (ReadColumn(f, b)) {
     }
     if (!b.keep()) return Skipped(h.name);
     // 64-bit-word files store types 1 and 3 in 8-byte reals as well.
-    return b.Finish(value_bytes == 4 ? 32 : 64, options_, path_,
+    return b.Finish(f.value_bytes == 4 ? 32 : 64, options_, path_,
                     "byte offset " + std::to_string(header_at) + ": ");
   }
 
