@@ -310,6 +310,41 @@ int DesignCommands::State::RunSweep() {
 }
 
 // ---------------------------------------------------------------------------------------- noa
+namespace {
+
+// The keys of `fricrom noa --json` (and OUT/noa.json).
+json NoaJson(const NoaResult& res, const std::string& param, const std::string& objective,
+             const NoaOptions& no, int ref_solves, const json& sweep_json, double wall,
+             bool ranks) {
+  json j;
+  j["param"] = param;
+  j["p_opt"] = res.p_opt;
+  j["R_opt"] = Num(res.robustness);
+  j["eta1"] = res.eta1;
+  j["eta2"] = res.eta2;
+  j["objective"] = objective;
+  j["objective_value"] = Num(res.objective);
+  j["outer_iterations"] = res.outer_iterations;
+  j["inner_solves"] = res.inner_solves;
+  j["wall_s"] = res.wall_s;
+  j["reference_freq_hz"] = no.inner.reference_freq_hz;
+  j["reference_search_solves"] = ref_solves;
+  j["converged"] = res.converged;
+  j["message"] = res.message;
+  json hist = json::array();
+  for (const RobustnessPoint& h : res.history)
+    hist.push_back({{"p", h.parameter}, {"R", Num(h.robustness)}});
+  j["history"] = hist;
+  j["manual_sweep"] = sweep_json;
+  j["total_wall_s"] = wall;
+  j["units"] = {{"scan", no.scan_points},
+                {"threads", ranks ? 1 : WorkerThreads(no.inner.threads, no.scan_points)},
+                {"ranks", MpiSize()}};
+  return j;
+}
+
+}  // namespace
+
 int DesignCommands::State::RunNoa() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c0 = noa_case.Load({{param, from}});
@@ -381,30 +416,7 @@ int DesignCommands::State::RunNoa() {
                   {"R_best", Num(pts[best].robustness)}};
   }
   const fs::path dir = OutDir(c0, "noa_" + param);
-  json j;
-  j["param"] = param;
-  j["p_opt"] = res.p_opt;
-  j["R_opt"] = Num(res.robustness);
-  j["eta1"] = res.eta1;
-  j["eta2"] = res.eta2;
-  j["objective"] = noa_objective;
-  j["objective_value"] = Num(res.objective);
-  j["outer_iterations"] = res.outer_iterations;
-  j["inner_solves"] = res.inner_solves;
-  j["wall_s"] = res.wall_s;
-  j["reference_freq_hz"] = no.inner.reference_freq_hz;
-  j["reference_search_solves"] = ref_solves;
-  j["converged"] = res.converged;
-  j["message"] = res.message;
-  json hist = json::array();
-  for (const RobustnessPoint& h : res.history)
-    hist.push_back({{"p", h.parameter}, {"R", Num(h.robustness)}});
-  j["history"] = hist;
-  j["manual_sweep"] = sweep_json;
-  j["total_wall_s"] = wall;
-  j["units"] = {{"scan", no.scan_points},
-                {"threads", ranks ? 1 : WorkerThreads(no.inner.threads, no.scan_points)},
-                {"ranks", MpiSize()}};
+  const json j = NoaJson(res, param, noa_objective, no, ref_solves, sweep_json, wall, ranks);
   WriteTextAtomically(dir / "noa.json", j.dump(2) + "\n");
   if (as_json) {
     std::cout << j.dump() << "\n";

@@ -95,6 +95,70 @@ void WriteSparse(Hdf5Writer& h5, const std::string& group, const FeMatrix& m) {
   if (m.is_complex) h5.Vector(group + "/values_imag", m.coo.im);
 }
 
+// An FE model as HDF5 (schema fricrom-fe-model-1): the chosen matrices with their DOFs, the
+// nodes, the superelement DOF order and the coordinate systems.
+void WriteFeModelHdf5(const fs::path& out, const FeModel& m,
+                      const std::vector<const FeMatrix*>& chosen) {
+  Hdf5Writer h5(out);
+  h5.Attribute("", "fricrom_version", Version());
+  h5.Attribute("", "schema", "fricrom-fe-model-1");
+  h5.Attribute("", "source", m.source);
+  h5.Attribute("", "format", m.format);
+  h5.Attribute("", "layout",
+               "matrices/<name>: coordinate triplets, 0-based (row, col, "
+               "values[, values_imag]) sorted by column then row, attributes "
+               "rows, cols; "
+               "dofs: node, component (0 = scalar point)");
+  for (const FeMatrix* mat : chosen) {
+    const std::string g = "matrices/" + mat->name;
+    WriteSparse(h5, g, *mat);
+    std::vector<int64_t> nodes, comps;
+    for (const DofId& d : mat->row_dofs) {
+      nodes.push_back(d.node);
+      comps.push_back(d.component);
+    }
+    if (!nodes.empty()) {
+      h5.Int64Vector(g + "/dof_node", nodes);
+      h5.Int64Vector(g + "/dof_component", comps);
+    }
+    h5.Attribute(g, "rows", static_cast<double>(mat->rows));
+    h5.Attribute(g, "cols", static_cast<double>(mat->cols));
+    h5.Attribute(g, "declared_symmetric", mat->symmetric ? 1.0 : 0.0);
+  }
+  if (!m.nodes.empty()) {
+    std::vector<int64_t> ids;
+    std::vector<int> cp, cd;
+    Eigen::MatrixXd xyz(m.nodes.size(), 3);
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      ids.push_back(m.nodes[i].id);
+      cp.push_back(m.nodes[i].position_system);
+      cd.push_back(m.nodes[i].displacement_system);
+      xyz.row(i) = m.nodes[i].xyz.transpose();
+    }
+    h5.Int64Vector("nodes/id", ids);
+    h5.Matrix("nodes/xyz", xyz);
+    h5.IntVector("nodes/position_system", cp);
+    h5.IntVector("nodes/displacement_system", cd);
+  }
+  if (!m.external_dofs.empty()) {
+    std::vector<int64_t> nodes, comps;
+    for (const DofId& d : m.external_dofs) {
+      nodes.push_back(d.node);
+      comps.push_back(d.component);
+    }
+    h5.Int64Vector("external_dofs/node", nodes);
+    h5.Int64Vector("external_dofs/component", comps);
+  }
+  for (const CoordinateSystem& cs : m.systems) {
+    const std::string g = "systems/" + std::to_string(cs.id);
+    h5.Vector(g + "/a", Eigen::VectorXd(cs.a));
+    h5.Vector(g + "/b", Eigen::VectorXd(cs.b));
+    h5.Vector(g + "/c", Eigen::VectorXd(cs.c));
+    h5.Attribute(g, "reference", static_cast<double>(cs.reference));
+  }
+  h5.Commit();
+}
+
 }  // namespace
 
 struct FeCommands::State {
@@ -190,64 +254,7 @@ struct FeCommands::State {
         std::cout << "wrote " << out.string() << (dofs.empty() ? "" : " and " + dofs) << "\n";
       }
     } else if (out.extension() == ".h5") {
-      Hdf5Writer h5(out);
-      h5.Attribute("", "fricrom_version", Version());
-      h5.Attribute("", "schema", "fricrom-fe-model-1");
-      h5.Attribute("", "source", m.source);
-      h5.Attribute("", "format", m.format);
-      h5.Attribute("", "layout",
-                   "matrices/<name>: coordinate triplets, 0-based (row, col, "
-                   "values[, values_imag]) sorted by column then row, attributes "
-                   "rows, cols; "
-                   "dofs: node, component (0 = scalar point)");
-      for (const FeMatrix* mat : chosen) {
-        const std::string g = "matrices/" + mat->name;
-        WriteSparse(h5, g, *mat);
-        std::vector<int64_t> nodes, comps;
-        for (const DofId& d : mat->row_dofs) {
-          nodes.push_back(d.node);
-          comps.push_back(d.component);
-        }
-        if (!nodes.empty()) {
-          h5.Int64Vector(g + "/dof_node", nodes);
-          h5.Int64Vector(g + "/dof_component", comps);
-        }
-        h5.Attribute(g, "rows", static_cast<double>(mat->rows));
-        h5.Attribute(g, "cols", static_cast<double>(mat->cols));
-        h5.Attribute(g, "declared_symmetric", mat->symmetric ? 1.0 : 0.0);
-      }
-      if (!m.nodes.empty()) {
-        std::vector<int64_t> ids;
-        std::vector<int> cp, cd;
-        Eigen::MatrixXd xyz(m.nodes.size(), 3);
-        for (size_t i = 0; i < m.nodes.size(); ++i) {
-          ids.push_back(m.nodes[i].id);
-          cp.push_back(m.nodes[i].position_system);
-          cd.push_back(m.nodes[i].displacement_system);
-          xyz.row(i) = m.nodes[i].xyz.transpose();
-        }
-        h5.Int64Vector("nodes/id", ids);
-        h5.Matrix("nodes/xyz", xyz);
-        h5.IntVector("nodes/position_system", cp);
-        h5.IntVector("nodes/displacement_system", cd);
-      }
-      if (!m.external_dofs.empty()) {
-        std::vector<int64_t> nodes, comps;
-        for (const DofId& d : m.external_dofs) {
-          nodes.push_back(d.node);
-          comps.push_back(d.component);
-        }
-        h5.Int64Vector("external_dofs/node", nodes);
-        h5.Int64Vector("external_dofs/component", comps);
-      }
-      for (const CoordinateSystem& cs : m.systems) {
-        const std::string g = "systems/" + std::to_string(cs.id);
-        h5.Vector(g + "/a", Eigen::VectorXd(cs.a));
-        h5.Vector(g + "/b", Eigen::VectorXd(cs.b));
-        h5.Vector(g + "/c", Eigen::VectorXd(cs.c));
-        h5.Attribute(g, "reference", static_cast<double>(cs.reference));
-      }
-      h5.Commit();
+      WriteFeModelHdf5(out, m, chosen);
       if (!as_json) std::cout << "wrote " << out.string() << "\n";
     } else {
       throw CLI::ValidationError("--to", "expected a .mtx or .h5 output, got '" + to + "'");
