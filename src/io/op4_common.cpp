@@ -2,7 +2,9 @@
 #include "op4_common.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <sstream>
 #include <utility>
 
 #include "fe_text.h"
@@ -123,6 +125,14 @@ FeMatrix MatrixBuilder::Finish(int precision_bits, const FeReadOptions& options,
   m.is_complex = h_.Complex();
   m.source_precision_bits = precision_bits;
   fe_text::CheckStorage(file, where, m, std::max(re_.size(), im_.size()), options);
+  if (m.symmetric) {
+    const std::string why = Asymmetry(re_, "");
+    const std::string why_im = why.empty() && m.is_complex ? Asymmetry(im_, "imaginary ") : "";
+    if (!why.empty() || !why_im.empty()) {
+      throw FeReadError(file + ": " + where + "matrix '" + m.name + "' is form 6 (symmetric) but " +
+                        (why.empty() ? why_im : why));
+    }
+  }
   if (options.coordinate) {
     BuildCoordinates(m.coo);
     m.coordinate = true;
@@ -131,6 +141,39 @@ FeMatrix MatrixBuilder::Finish(int precision_bits, const FeReadOptions& options,
   Build(re_, m.real);
   if (m.is_complex) Build(im_, m.imag);
   return m;
+}
+
+// Form 6 promises A = Aᵀ, and OP4 stores both triangles: every stored entry needs its mirror
+// within round-off (Nastran's own files differ in the last digits: inboard.op4's KXX by 6e-16
+// relative), or the file contradicts its own header. The tolerance is the reduction's
+// (relative 1e-8 of the largest entry); a zero is not stored, so a missing mirror is a zero.
+// Binary search in the sorted entries: no memory by the columns.
+std::string MatrixBuilder::Asymmetry(const std::vector<Entry>& e, const std::string& part) const {
+  const auto before = [](const Entry& x, const Entry& y) {
+    return x.col != y.col ? x.col < y.col : x.row < y.row;
+  };
+  const auto describe = [&](const Entry& x, double other) {
+    std::ostringstream s;
+    s.precision(17);
+    s << part << "entry (" << x.row + 1 << ", " << x.col + 1 << ") = " << x.value << " and ("
+      << x.col + 1 << ", " << x.row + 1 << ") = " << other << " differ by more than "
+      << kSymmetryTolerance << " of the largest entry";
+    return s.str();
+  };
+  double largest = 0.0;
+  for (const Entry& x : e) largest = std::max(largest, std::abs(x.value));
+  const double tolerance = kSymmetryTolerance * largest;
+  const auto differ = [&](double a, double b) { return !(std::abs(a - b) <= tolerance); };
+  // Each entry below the diagonal has its mirror, and each above the diagonal too.
+  for (const Entry& x : e) {
+    if (x.row == x.col) continue;
+    const Entry mirror{x.col, x.row, 0.0};
+    const auto it = std::lower_bound(e.begin(), e.end(), mirror, before);
+    const bool found = it != e.end() && it->row == mirror.row && it->col == mirror.col;
+    const double other = found ? it->value : 0.0;
+    if (differ(x.value, other)) return describe(x, other);
+  }
+  return "";
 }
 
 // Fills the compressed storage directly from the sorted entries: no transposed temporary, so

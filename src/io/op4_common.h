@@ -11,6 +11,8 @@
 
 namespace fricrom::op4 {
 
+// A form-6 matrix must be symmetric to this share of its largest entry (the reduction's rule).
+constexpr double kSymmetryTolerance = 1e-8;
 // Non-bigmat sparse strings pack the row into the low 16 bits.
 constexpr int64_t kBigmatRows = 65536;
 
@@ -71,6 +73,9 @@ class MatrixBuilder {
     double value;
   };
   void Build(const std::vector<Entry>& e, Eigen::SparseMatrix<double>& out) const;
+  // "" when the sorted entries are symmetric within kSymmetryTolerance, else which pair differs
+  // (`part`: "imaginary ").
+  std::string Asymmetry(const std::vector<Entry>& e, const std::string& part) const;
   void BuildCoordinates(FeCoordinates& c) const;
 
   Header h_;

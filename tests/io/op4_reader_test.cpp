@@ -644,6 +644,28 @@ TEST(Op4Reader, NonFiniteValues) {
   ExpectError(tmp.Write("huge.op4", c), {": line 3: ", "out of double-precision range"});
 }
 
+// Form 6 promises symmetry and OP4 stores both triangles: Nastran's own KXX differs in the last
+// digits (accepted), a mirror that differs by more than 1e-8 of the largest entry is an
+// inconsistent file (found by the fuzzer: the reader had flagged it symmetric all the same).
+TEST(Op4Reader, SymmetricFormWithAsymmetricValuesIsAnError) {
+  TempDir tmp;
+  const std::string b = ReadBytes(Fixture("inboard.op4"));
+  const FeModel model = ReadOp4(Fixture("inboard.op4"));
+  const FeMatrix& kxx = model.matrices.at(0);
+  ASSERT_EQ(kxx.name, "KXX");
+  ASSERT_TRUE(kxx.symmetric);
+  const double v = kxx.real.coeff(2, 0);  // (3, 1), 6e-16 relative from (1, 3) in the file
+  ASSERT_NE(v, kxx.real.coeff(0, 2));
+  char bytes[8];
+  std::memcpy(bytes, &v, 8);
+  const size_t at = b.find(std::string(bytes, 8));
+  ASSERT_NE(at, std::string::npos);
+  std::string c = b;
+  PutF64(c, at, 2.0 * v);
+  ExpectError(tmp.Write("asym.op4", c),
+              {"byte offset 0: ", "'KXX'", "form 6 (symmetric)", "(3, 1)", "(1, 3)", "differ"});
+}
+
 TEST(Op4Reader, BadAsciiNumbers) {
   TempDir tmp;
   const std::string text = ReadBytes(Fixture("double_dense_ascii.op4"));
