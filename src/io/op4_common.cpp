@@ -149,9 +149,6 @@ FeMatrix MatrixBuilder::Finish(int precision_bits, const FeReadOptions& options,
 // (relative 1e-8 of the largest entry); a zero is not stored, so a missing mirror is a zero.
 // Binary search in the sorted entries: no memory by the columns.
 std::string MatrixBuilder::Asymmetry(const std::vector<Entry>& e, const std::string& part) const {
-  const auto before = [](const Entry& x, const Entry& y) {
-    return x.col != y.col ? x.col < y.col : x.row < y.row;
-  };
   const auto describe = [&](const Entry& x, double other) {
     std::ostringstream s;
     s.precision(17);
@@ -163,15 +160,30 @@ std::string MatrixBuilder::Asymmetry(const std::vector<Entry>& e, const std::str
   double largest = 0.0;
   for (const Entry& x : e) largest = std::max(largest, std::abs(x.value));
   const double tolerance = kSymmetryTolerance * largest;
-  const auto differ = [&](double a, double b) { return !(std::abs(a - b) <= tolerance); };
-  // Each entry below the diagonal has its mirror, and each above the diagonal too.
+  // The stored columns (by what the file holds, not by its declared size) with their first
+  // entry. Visiting the entries column by column, the rows sought in any one mirror column only
+  // ascend, so a cursor per column walks each column once.
+  std::vector<int64_t> cols;
+  std::vector<size_t> begin;
+  for (size_t k = 0; k < e.size(); ++k) {
+    if (k == 0 || e[k].col != e[k - 1].col) {
+      cols.push_back(e[k].col);
+      begin.push_back(k);
+    }
+  }
+  std::vector<size_t> cursor = begin;
+  begin.push_back(e.size());
   for (const Entry& x : e) {
     if (x.row == x.col) continue;
-    const Entry mirror{x.col, x.row, 0.0};
-    const auto it = std::lower_bound(e.begin(), e.end(), mirror, before);
-    const bool found = it != e.end() && it->row == mirror.row && it->col == mirror.col;
-    const double other = found ? it->value : 0.0;
-    if (differ(x.value, other)) return describe(x, other);
+    double other = 0.0;  // a mirror that is not stored is a zero
+    const auto c = std::lower_bound(cols.begin(), cols.end(), x.row);
+    if (c != cols.end() && *c == x.row) {
+      const size_t k = static_cast<size_t>(c - cols.begin());
+      size_t& p = cursor[k];
+      while (p < begin[k + 1] && e[p].row < x.col) ++p;
+      if (p < begin[k + 1] && e[p].row == x.col) other = e[p].value;
+    }
+    if (!(std::abs(x.value - other) <= tolerance)) return describe(x, other);
   }
   return "";
 }
