@@ -58,6 +58,17 @@ struct BoundsOptions {
   int random_seeds = 0;
   Method method = kReducedSpace;
   int max_iterations = 200;  // optimiser iterations per run
+  // Nonmonotone line search of the reduced-space runs (Grippo, Lampariello & Lucidi 1986; the
+  // spectral projected gradient of Birgin, Martinez & Raydan 2000): a trial α is accepted when
+  // its objective is below the largest of the last `line_search_memory` iterates' (minus the
+  // Armijo term), so the Barzilai-Borwein steps are cut less often and a run can cross a kink of
+  // the response a monotone search stops at. Each run still ends on its best iterate (from
+  // which it goes on monotonically if a stopping test held elsewhere). 1: monotone Armijo, the
+  // only search before 2026-11-27 (seventh session); 10 on the coarse FE cascade's default
+  // 50-point curve: y_max higher at 22 points (up to 9.8 %), lower at 5 (up to 5.8 %), in the
+  // same time (docs/bounds-and-design.md). The harmonic ladder's refinement at H runs
+  // monotonically from its H = 1 optimum (nonmonotone there: the same bounds, twice the time).
+  int line_search_memory = 10;
   // A reduced-space run is stopped (BoundStatus::kAbandoned, BoundsResult::runs_abandoned) once,
   // after at least 10 iterations, it would need more than 10x its best progress per iteration
   // over the last 10 to reach, within its remaining iterations, the bound that a seed's start

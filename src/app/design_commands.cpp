@@ -73,6 +73,10 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
   cmd->add_option("--check-samples", check_samples,
                   "Random alpha solves that check (and improve) each bound; 0: no check")
       ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--line-search-memory", line_search_memory,
+                  "Reduced-space runs: accept a step against the largest of the last N "
+                  "objectives (nonmonotone; default 10); 1: monotone Armijo")
+      ->check(CLI::Range(1, 100));
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "

@@ -42,6 +42,7 @@ struct DesignCommands::State {
   // shared options
   std::string seeds, out, objective = "amplitude", method = "reduced";
   int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
+  int line_search_memory = BoundsOptions{}.line_search_memory;
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
@@ -72,6 +73,7 @@ struct DesignCommands::State {
     if (!FromString(method, &o.method))
       throw CLI::ValidationError("--method", "unknown: " + method);
     o.check_samples = check_samples;
+    o.line_search_memory = line_search_memory;
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
@@ -101,6 +103,7 @@ struct DesignCommands::State {
               {"objective", objective},
               {"method", method},
               {"check_samples", check_samples},
+              {"line_search_memory", line_search_memory},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
               {"interface_seeds", interface_seeds}};

@@ -31,6 +31,7 @@ struct RunSetup {
   // run's direction, NaN if none or not to be used: the reduced-space run stops once it cannot
   // reach it (BoundsOptions::stop_dominated_runs).
   double incumbent = std::numeric_limits<double>::quiet_NaN();
+  int line_search_memory = 1;  // BoundsOptions::line_search_memory
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,

@@ -67,6 +67,11 @@ std::string FormatRegimes(const std::vector<ContactRegime>& regimes) {
 }  // namespace
 
 bool BoundsOptions::IsValid(std::string* error) const {
+  if (line_search_memory < 1 || line_search_memory > 100) {
+    *error = "BoundsOptions.line_search_memory must lie in [1, 100], got " +
+             std::to_string(line_search_memory);
+    return false;
+  }
   if (max_iterations < 1) {
     *error = "BoundsOptions.max_iterations must be >= 1, got " + std::to_string(max_iterations);
     return false;
@@ -436,6 +441,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   setup.objective = options.objective;
   setup.residual_scale = system.ResidualScale();
   setup.stall_tolerance = options.tolerance;
+  setup.line_search_memory = options.line_search_memory;
   setup.x_scale.resize(system.num_unknowns());
   for (int j = 0; j < nh; ++j) {
     const double block = x_stick.segment(j * n, n).lpNorm<Eigen::Infinity>();
