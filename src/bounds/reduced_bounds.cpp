@@ -125,173 +125,231 @@ bool Dominated(double incumbent, double phi, const std::vector<double>& gains, i
 
 }  // namespace
 
-// Reduced-space run: projected gradient with Armijo backtracking and Barzilai-Borwein steps over
-// the α box; x(α) from Newton warm-started at the last iterate, so every iterate satisfies R = 0,
-// and the reduced gradient g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
-BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
-                         int seed, int max_iterations, double tolerance) {
-  const HarmonicBalance& sys = *s.system;
-  BoundSolution out;
-  out.seed = seed;
-  // Chord steps and reused factorisations pay off where an LU is dear; small (lumped) systems
-  // keep plain Newton and a new LU per point.
-  const bool chord = sys.num_unknowns() >= dense::kLapackMinSize;
-  auto value_and_gradient =
-      [&](const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
-          const std::shared_ptr<const dense::Lu>& previous, std::shared_ptr<const dense::Lu>* lu) {
-        return ValueAndGradient(s, chord, x, a, previous, phi, g, lu);
-      };
-  Eigen::VectorXd x = x0, a = a0, g;
-  double phi = 0.0;
-  std::shared_ptr<const dense::Lu> lu, lu_new;
-  std::vector<ContactRegime> regimes, regimes_new;
-  if (chord) regimes = sys.ContactRegimes(x, s.omega, a);
-  auto finish = [&](BoundStatus status, const std::string& message) {
-    out.x = x;
-    out.alpha = a;
-    out.status = status;
-    out.message = message;
-    out.stationary = status == BoundStatus::kConverged;
-    Describe(sys, s.omega, &out);
-    if (out.status == BoundStatus::kConverged && !(out.residual <= kFeasibility)) {
-      out.status = BoundStatus::kFailed;
-      out.stationary = false;
-      out.message += "; the point violates R = 0";
-    }
-    return out;
-  };
-  if (!value_and_gradient(x, a, &phi, &g, nullptr, &lu)) {
-    return finish(BoundStatus::kFailed, "singular Jacobian at the start");
+namespace {
+
+// One reduced-space run (RunReduced): projected gradient over the α box with Barzilai-Borwein
+// steps and a (nonmonotone) Armijo backtracking; x(α) by chord steps or Newton warm-started at the
+// last iterate, so that every iterate satisfies R = 0; the reduced gradient
+// g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
+class ReducedRun {
+ public:
+  ReducedRun(const RunSetup& s, int seed, int max_iterations, double tolerance)
+      : s_(s),
+        sys_(*s.system),
+        max_iterations_(max_iterations),
+        tolerance_(tolerance),
+        // Chord steps and reused factorisations pay off where an LU is dear; small (lumped)
+        // systems keep plain Newton and a new LU per point.
+        chord_(sys_.num_unknowns() >= dense::kLapackMinSize),
+        memory_(std::max(s.line_search_memory, 1)) {
+    out_.seed = seed;
+    // A line-search solve that stalls is ended early: its trial step is halved anyway. On the
+    // FE cascade (1082.65 and 1103.06 Hz) 1 of 2375 line-search solves that converged had
+    // crawled 8 steps at < 1 %, while failed ones spent 35-51 % of their iterations past that
+    // point.
+    newton_.stall_window = 8;
   }
-  // A line-search solve that stalls is ended early: its trial step is halved anyway. On the FE
-  // cascade (1082.65 and 1103.06 Hz) 1 of 2375 line-search solves that converged had crawled 8
-  // steps at < 1 %, while failed ones spent 35-51 % of their iterations past that point.
-  NewtonOptions newton;
-  newton.stall_window = 8;
-  double step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
-  // A trial α that Newton cannot reach from x costs a failed solve (~10x a converging one on the
-  // FE cascade) and halves the step; after a jump of the Barzilai-Borwein step a run spent up to
-  // ten such failures per iteration (1098.98 Hz, H = 1: 190 of 217 solves, 8.8 of 9.5 s). After
-  // an iteration with a failed solve the next step is capped at the one accepted; the cap
+
+  BoundSolution Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0);
+
+ private:
+  struct Trial {
+    Eigen::VectorXd x, a, g;
+    double phi = 0.0;
+    std::shared_ptr<const dense::Lu> lu;
+    std::vector<ContactRegime> regimes;  // empty unless the chord steps computed them
+    bool newton_failed = false;          // some trial of the line search failed in Newton
+    double step = 0.0;                   // the step of the last trial
+  };
+
+  bool Gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
+                const std::shared_ptr<const dense::Lu>& previous,
+                std::shared_ptr<const dense::Lu>* lu) const {
+    return ValueAndGradient(s_, chord_, x, a, previous, phi, g, lu);
+  }
+  bool SolveTrial(Trial* t);
+  bool LineSearch(double reference, Trial* t);
+  bool BackToBest();
+  void EndOnBest();
+  BoundSolution Finish(BoundStatus status, const std::string& message);
+
+  const RunSetup& s_;
+  const HarmonicBalance& sys_;
+  const int max_iterations_;
+  const double tolerance_;
+  const bool chord_;
+  NewtonOptions newton_;
+  BoundSolution out_;
+  // The current iterate (x_, a_ solve R = 0) with its objective, gradient, LU and regimes.
+  Eigen::VectorXd x_, a_, g_;
+  double phi_ = 0.0;
+  std::shared_ptr<const dense::Lu> lu_;
+  std::vector<ContactRegime> regimes_;
+  double step_ = 0.0;
+  // A trial α that Newton cannot reach from x costs a failed solve (~10x a converging one on
+  // the FE cascade) and halves the step; after a jump of the Barzilai-Borwein step a run spent
+  // up to ten such failures per iteration (1098.98 Hz, H = 1: 190 of 217 solves, 8.8 of 9.5 s).
+  // After an iteration with a failed solve the next step is capped at the one accepted; the cap
   // doubles with every iteration without one.
-  double step_cap = std::numeric_limits<double>::infinity();
-  int quiet = 0;
-  std::vector<double> gains;  // decrease of the objective per accepted iteration
+  double step_cap_ = std::numeric_limits<double>::infinity();
+  int quiet_ = 0;
+  std::vector<double> gains_;  // decrease of the objective per accepted iteration
   // Nonmonotone line search (BoundsOptions::line_search_memory): the last objectives a step is
   // measured against, and the best iterate, which the run ends on.
-  int memory = std::max(s.line_search_memory, 1);
-  std::vector<double> recent{phi};
+  int memory_;
+  std::vector<double> recent_;
   struct Iterate {
     Eigen::VectorXd x, a, g;
     double phi = 0.0;
     std::shared_ptr<const dense::Lu> lu;
-  } best{x, a, g, phi, lu};
-  // A stopping test met above the best iterate (only possible with memory > 1): back to the
-  // best, and on monotonically from there, so that a run's result is its best stationary point.
-  auto back_to_best = [&]() {
-    if (!(phi > best.phi)) return false;
-    x = best.x;
-    a = best.a;
-    g = best.g;
-    phi = best.phi;
-    lu = best.lu;
-    if (chord) regimes = sys.ContactRegimes(x, s.omega, a);
-    memory = 1;
-    recent.assign(1, phi);
-    quiet = 0;
-    step = 0.5 / std::max(g.lpNorm<Eigen::Infinity>(), 1e-300);
-    step_cap = std::numeric_limits<double>::infinity();
-    return true;
-  };
-  auto end_on_best = [&]() {
-    if (!(phi > best.phi)) return;
-    x = best.x;
-    a = best.a;
-    phi = best.phi;
-  };
-  for (int it = 0; it < max_iterations; ++it) {
-    out.iterations = it;
+  } best_;
+};
+
+BoundSolution ReducedRun::Finish(BoundStatus status, const std::string& message) {
+  out_.x = x_;
+  out_.alpha = a_;
+  out_.status = status;
+  out_.message = message;
+  out_.stationary = status == BoundStatus::kConverged;
+  Describe(sys_, s_.omega, &out_);
+  if (out_.status == BoundStatus::kConverged && !(out_.residual <= kFeasibility)) {
+    out_.status = BoundStatus::kFailed;
+    out_.stationary = false;
+    out_.message += "; the point violates R = 0";
+  }
+  return out_;
+}
+
+// A stopping test met above the best iterate (only possible with memory > 1): back to the best,
+// and on monotonically from there, so that a run's result is its best stationary point.
+bool ReducedRun::BackToBest() {
+  if (!(phi_ > best_.phi)) return false;
+  x_ = best_.x;
+  a_ = best_.a;
+  g_ = best_.g;
+  phi_ = best_.phi;
+  lu_ = best_.lu;
+  if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
+  memory_ = 1;
+  recent_.assign(1, phi_);
+  quiet_ = 0;
+  step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);
+  step_cap_ = std::numeric_limits<double>::infinity();
+  return true;
+}
+
+void ReducedRun::EndOnBest() {
+  if (!(phi_ > best_.phi)) return;
+  x_ = best_.x;
+  a_ = best_.a;
+  phi_ = best_.phi;
+}
+
+// x(α_new) for t->a: chord steps with the last factorisation, kept only if every contact is in
+// the regime it had at the last accepted point (a chord step can otherwise land on another
+// branch, e.g. a lift-off the Newton path would not reach); else Newton. Then φ and g there.
+bool ReducedRun::SolveTrial(Trial* t) {
+  const HbmAtFrequency at(sys_, s_.omega, t->a);
+  t->x = x_;
+  Eigen::VectorXd r_at_x;  // R(x, α_new), from the chord attempt
+  if (chord_ && ChordSolve(at, *lu_, newton_, &t->x, &r_at_x)) {
+    t->regimes = sys_.ContactRegimes(t->x, s_.omega, t->a);
+    if (t->regimes == regimes_ && Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu)) return true;
+  }
+  t->x = x_;
+  if (!SolveNewtonPreconditioned(at, newton_, NewtonPreconditioner{lu_.get(), true}, &t->x, nullptr,
+                                 r_at_x.size() > 0 ? &r_at_x : nullptr)
+           .IsSolutionUsable()) {
+    t->newton_failed = true;
+    return false;
+  }
+  if (!Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu)) return false;
+  t->regimes.clear();
+  return true;
+}
+
+// Backtracking along the projected-gradient path from step_, each trial measured against
+// `reference` (the largest recent objective). On return step_ is half the last step tried.
+bool ReducedRun::LineSearch(double reference, Trial* t) {
+  bool accepted = false;
+  t->step = step_;
+  for (int bt = 0; bt < 40 && !accepted; ++bt, step_ *= 0.5) {
+    t->a = (a_ - step_ * g_).cwiseMax(-1.0).cwiseMin(1.0);
+    if ((t->a - a_).lpNorm<Eigen::Infinity>() <= 1e-14) break;
+    if (!SolveTrial(t)) continue;
+    accepted = t->phi <= reference - 1e-4 * g_.dot(a_ - t->a);
+    t->step = step_;
+  }
+  return accepted;
+}
+
+BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0) {
+  x_ = x0;
+  a_ = a0;
+  if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
+  if (!Gradient(x_, a_, &phi_, &g_, nullptr, &lu_)) {
+    return Finish(BoundStatus::kFailed, "singular Jacobian at the start");
+  }
+  step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
+  recent_.assign(1, phi_);
+  best_ = Iterate{x_, a_, g_, phi_, lu_};
+  for (int it = 0; it < max_iterations_; ++it) {
+    out_.iterations = it;
     // First-order conditions on the box: the projected gradient step vanishes.
-    const Eigen::VectorXd pg = (a - g).cwiseMax(-1.0).cwiseMin(1.0) - a;
-    if (pg.lpNorm<Eigen::Infinity>() <= tolerance) {
-      if (back_to_best()) continue;
-      return finish(BoundStatus::kConverged, "reduced space: projected gradient vanishes (KKT)");
+    const Eigen::VectorXd pg = (a_ - g_).cwiseMax(-1.0).cwiseMin(1.0) - a_;
+    if (pg.lpNorm<Eigen::Infinity>() <= tolerance_) {
+      if (BackToBest()) continue;
+      return Finish(BoundStatus::kConverged, "reduced space: projected gradient vanishes (KKT)");
     }
-    bool accepted = false, newton_failed = false;
-    double accepted_step = step;
-    const double reference = *std::max_element(recent.begin(), recent.end());
-    Eigen::VectorXd a_new, x_new, g_new;
-    double phi_new = 0.0;
-    for (int bt = 0; bt < 40 && !accepted; ++bt, step *= 0.5) {
-      a_new = (a - step * g).cwiseMax(-1.0).cwiseMin(1.0);
-      if ((a_new - a).lpNorm<Eigen::Infinity>() <= 1e-14) break;
-      // x(α_new): chord steps with the last factorisation, kept only if every contact is in the
-      // regime it had at the last accepted point (a chord step can otherwise land on another
-      // branch, e.g. a lift-off the Newton path would not reach); else Newton.
-      const HbmAtFrequency at(sys, s.omega, a_new);
-      bool solved = false;
-      x_new = x;
-      Eigen::VectorXd r_at_x;  // R(x, α_new), from the chord attempt
-      if (chord && ChordSolve(at, *lu, newton, &x_new, &r_at_x)) {
-        regimes_new = sys.ContactRegimes(x_new, s.omega, a_new);
-        solved = regimes_new == regimes &&
-                 value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new);
-      }
-      if (!solved) {
-        x_new = x;
-        if (!SolveNewtonPreconditioned(at, newton, NewtonPreconditioner{lu.get(), true}, &x_new,
-                                       nullptr, r_at_x.size() > 0 ? &r_at_x : nullptr)
-                 .IsSolutionUsable()) {
-          newton_failed = true;
-          continue;
-        }
-        if (!value_and_gradient(x_new, a_new, &phi_new, &g_new, lu, &lu_new)) continue;
-        regimes_new.clear();
-      }
-      accepted = phi_new <= reference - 1e-4 * g.dot(a - a_new);
-      accepted_step = step;
-    }
-    if (!accepted) {
-      if (back_to_best()) continue;
-      return finish(BoundStatus::kConverged,
+    Trial t;
+    if (!LineSearch(*std::max_element(recent_.begin(), recent_.end()), &t)) {
+      if (BackToBest()) continue;
+      return Finish(BoundStatus::kConverged,
                     "reduced space: no descent along the projected gradient (nonsmooth "
                     "stationary point)");
     }
-    const Eigen::VectorXd ds = a_new - a, dg = g_new - g;
-    const double change = std::abs(phi - phi_new);
-    gains.push_back(phi - phi_new);
-    if (Dominated(s.incumbent, std::min(phi_new, best.phi), gains, max_iterations - it - 1)) {
-      x = x_new;
-      a = a_new;
-      phi = phi_new;
-      end_on_best();
-      out.iterations = it + 1;
-      return finish(BoundStatus::kAbandoned,
+    const Eigen::VectorXd ds = t.a - a_, dg = t.g - g_;
+    const double change = std::abs(phi_ - t.phi);
+    gains_.push_back(phi_ - t.phi);
+    if (Dominated(s_.incumbent, std::min(t.phi, best_.phi), gains_, max_iterations_ - it - 1)) {
+      x_ = t.x;
+      a_ = t.a;
+      phi_ = t.phi;
+      EndOnBest();
+      out_.iterations = it + 1;
+      return Finish(BoundStatus::kAbandoned,
                     "reduced space: abandoned after " + std::to_string(it + 1) +
                         " iterations, dominated (cannot reach the bound of a KKT start)");
     }
-    x = x_new;
-    a = a_new;
-    g = g_new;
-    phi = phi_new;
-    std::swap(lu, lu_new);
-    if (phi < best.phi) best = Iterate{x, a, g, phi, lu};
-    recent.push_back(phi);
-    if (std::ssize(recent) > memory) recent.erase(recent.begin());
-    if (chord) regimes = regimes_new.empty() ? sys.ContactRegimes(x, s.omega, a) : regimes_new;
-    quiet = change <= tolerance * std::max(std::abs(phi), 1.0) ? quiet + 1 : 0;
-    if (quiet >= 3) {
-      if (back_to_best()) continue;
-      return finish(BoundStatus::kConverged, "reduced space: objective stationary");
+    x_ = std::move(t.x);
+    a_ = std::move(t.a);
+    g_ = std::move(t.g);
+    phi_ = t.phi;
+    lu_ = std::move(t.lu);
+    if (phi_ < best_.phi) best_ = Iterate{x_, a_, g_, phi_, lu_};
+    recent_.push_back(phi_);
+    if (std::ssize(recent_) > memory_) recent_.erase(recent_.begin());
+    if (chord_) regimes_ = t.regimes.empty() ? sys_.ContactRegimes(x_, s_.omega, a_) : t.regimes;
+    quiet_ = change <= tolerance_ * std::max(std::abs(phi_), 1.0) ? quiet_ + 1 : 0;
+    if (quiet_ >= 3) {
+      if (BackToBest()) continue;
+      return Finish(BoundStatus::kConverged, "reduced space: objective stationary");
     }
     const double sy = ds.dot(dg);
-    step =
-        sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step;  // Barzilai-Borwein
-    step_cap = newton_failed ? accepted_step : 2.0 * step_cap;
-    step = std::min(step, step_cap);
+    step_ =
+        sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step_;  // Barzilai-Borwein
+    step_cap_ = t.newton_failed ? t.step : 2.0 * step_cap_;
+    step_ = std::min(step_, step_cap_);
   }
-  end_on_best();
-  return finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");
+  EndOnBest();
+  return Finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");
+}
+
+}  // namespace
+
+BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                         int seed, int max_iterations, double tolerance) {
+  return ReducedRun(s, seed, max_iterations, tolerance).Run(x0, a0);
 }
 
 }  // namespace fricrom::bounds_detail
