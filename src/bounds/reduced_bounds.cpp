@@ -123,10 +123,6 @@ bool Dominated(double incumbent, double phi, const std::vector<double>& gains, i
   return phi - incumbent > kGainMargin * recent * left;
 }
 
-}  // namespace
-
-namespace {
-
 // One reduced-space run (RunReduced): projected gradient over the α box with Barzilai-Borwein
 // steps and a (nonmonotone) Armijo backtracking; x(α) by chord steps or Newton warm-started at the
 // last iterate, so that every iterate satisfies R = 0; the reduced gradient

@@ -43,14 +43,17 @@ TEST(Cli, ModesJsonMatchesTable3) {
                                          266.89, 396.71, 396.71, 406.88, 406.88};
   ASSERT_EQ(free.size(), free_ref.size());
   ASSERT_EQ(stick.size(), stick_ref.size());
-  for (size_t i = 0; i < free.size(); ++i) EXPECT_NEAR(free[i], free_ref[i], 0.01) << "free mode " << i + 1;
-  for (size_t i = 0; i < stick.size(); ++i) EXPECT_NEAR(stick[i], stick_ref[i], 0.01) << "stick mode " << i + 1;
+  for (size_t i = 0; i < free.size(); ++i)
+    EXPECT_NEAR(free[i], free_ref[i], 0.01) << "free mode " << i + 1;
+  for (size_t i = 0; i < stick.size(); ++i)
+    EXPECT_NEAR(stick[i], stick_ref[i], 0.01) << "stick mode " << i + 1;
 }
 
 TEST(Cli, FrfAtFixedFrequenciesWritesJsonAndFiles) {
   TempDir tmp;
-  const CliRun r = Stdout("frf " + Quote(kBaseline) + " --alpha 0,0,0,0 --freq 258,262,270 --json --out " +
-                       Quote(tmp.path().string()));
+  const CliRun r =
+      Stdout("frf " + Quote(kBaseline) + " --alpha 0,0,0,0 --freq 258,262,270 --json --out " +
+             Quote(tmp.path().string()));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json j = json::parse(r.output);
   const json& pts = j.at("points");
@@ -111,8 +114,9 @@ TEST(Cli, FrfAtFixedFrequenciesWritesJsonAndFiles) {
 // the Coulomb limit exactly (fixed with a relative tolerance in the contact law).
 TEST(Cli, FrfStatesRespectTheMirrorSymmetry) {
   TempDir tmp;
-  const CliRun r = Stdout("frf " + Quote(kBaseline) + " --alpha 0,0,0,0 --freq 258,262,270 --json --out " +
-                          Quote(tmp.path().string()));
+  const CliRun r =
+      Stdout("frf " + Quote(kBaseline) + " --alpha 0,0,0,0 --freq 258,262,270 --json --out " +
+             Quote(tmp.path().string()));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json j = json::parse(r.output);
   for (const json& p : j.at("points")) {
@@ -133,7 +137,7 @@ TEST(Cli, NonexistentCaseFile) {
 TEST(Cli, AlphaWithWrongCount) {
   TempDir tmp;
   const CliRun r = Stderr("frf " + Quote(kBaseline) + " --alpha 0,0,0 --freq 262 --out " +
-                       Quote(tmp.path().string()));
+                          Quote(tmp.path().string()));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--alpha"), std::string::npos) << r.output;
@@ -144,7 +148,7 @@ TEST(Cli, AlphaWithWrongCount) {
 TEST(Cli, AlphaOutOfRange) {
   TempDir tmp;
   const CliRun r = Stderr("frf " + Quote(kBaseline) + " --alpha 2,0,0,0 --freq 262 --out " +
-                       Quote(tmp.path().string()));
+                          Quote(tmp.path().string()));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--alpha"), std::string::npos) << r.output;
@@ -156,6 +160,15 @@ TEST(Cli, UnknownParameterOverride) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("fricrom: error:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
+}
+
+TEST(Cli, LineSearchMemoryOutOfRangeIsAnError) {
+  for (const char* bad : {"0", "101", "x"}) {
+    const CliRun r =
+        Stderr("bounds " + Quote(kBaseline) + " --freq 266 --line-search-memory " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.output.find("--line-search-memory"), std::string::npos) << r.output;
+  }
 }
 
 TEST(Cli, BadOverrideSyntax) {
@@ -227,7 +240,8 @@ TEST(Cli, NoaJsonHasTheDocumentedKeys) {
   TempDir tmp;
   const CliRun r = Stdout("noa " + Quote(kBaseline) +
                           " --param beta --from 0 --to 0.2 --freq 266 --method reduced "
-                          "--sweep-steps 5 --json --out " + Quote(tmp.path().string()));
+                          "--sweep-steps 5 --json --out " +
+                          Quote(tmp.path().string()));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   for (const char* key : {"param", "p_opt", "R_opt", "eta1", "eta2", "outer_iterations",
@@ -240,7 +254,8 @@ TEST(Cli, NoaJsonHasTheDocumentedKeys) {
 }
 
 TEST(Cli, SweepOfAnUnknownParameterIsAnError) {
-  const CliRun r = Stderr("sweep " + Quote(kBaseline) + " --param nosuch --from 0 --to 1 --steps 2");
+  const CliRun r =
+      Stderr("sweep " + Quote(kBaseline) + " --param nosuch --from 0 --to 1 --steps 2");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("nosuch"), std::string::npos) << r.output;
 }
@@ -255,9 +270,11 @@ TEST(Cli, InfoAndConvertWorkOnEveryFeSample) {
       if (ext == ".op4" || ext == ".pch" || ext == ".mtx") files.push_back(e.path());
     }
   }
-  for (const auto& e : fs::recursive_directory_iterator(fs::path(FRICROM_SOURCE_DIR) / "tests" / "data")) {
+  for (const auto& e :
+       fs::recursive_directory_iterator(fs::path(FRICROM_SOURCE_DIR) / "tests" / "data")) {
     const std::string name = e.path().filename().string();
-    if (name == "dmig.pch" || name == "inboard.op4" || name == "model_STIF1.mtx") files.push_back(e.path());
+    if (name == "dmig.pch" || name == "inboard.op4" || name == "model_STIF1.mtx")
+      files.push_back(e.path());
   }
   ASSERT_GE(files.size(), 3u);
   TempDir tmp;
@@ -268,9 +285,11 @@ TEST(Cli, InfoAndConvertWorkOnEveryFeSample) {
     for (const auto& m : j.at("matrices")) {
       EXPECT_GE(m.at("rows").get<int64_t>(), 0) << f;
       if (m.at("type") != "real") continue;
-      const fs::path out = tmp.path() / (f.stem().string() + "_" + m.at("name").get<std::string>() + ".mtx");
-      const CliRun conv = Stdout("convert " + Quote(f.string()) + " --matrix " +
-                                 m.at("name").get<std::string>() + " --to " + Quote(out.string()) + " --json");
+      const fs::path out =
+          tmp.path() / (f.stem().string() + "_" + m.at("name").get<std::string>() + ".mtx");
+      const CliRun conv =
+          Stdout("convert " + Quote(f.string()) + " --matrix " + m.at("name").get<std::string>() +
+                 " --to " + Quote(out.string()) + " --json");
       ASSERT_EQ(conv.exit_code, 0) << f << " " << m.at("name") << "\n" << conv.output;
       const CliRun back = Stdout("info " + Quote(out.string()) + " --json");
       ASSERT_EQ(back.exit_code, 0) << out << "\n" << back.output;
@@ -279,7 +298,8 @@ TEST(Cli, InfoAndConvertWorkOnEveryFeSample) {
       EXPECT_EQ(jb.at("nnz"), m.at("nnz")) << out;
       // %.17g round-trips doubles exactly, so the norms agree to the last bit of the sum order.
       EXPECT_NEAR(jb.at("frobenius").get<double>(), m.at("frobenius").get<double>(),
-                  1e-14 * m.at("frobenius").get<double>() + 1e-300) << out;
+                  1e-14 * m.at("frobenius").get<double>() + 1e-300)
+          << out;
     }
     const CliRun h5 = Stdout("convert " + Quote(f.string()) + " --to " +
                              Quote((tmp.path() / (f.stem().string() + ".h5")).string()));
