@@ -1,4 +1,5 @@
 // `fricrom bounds`: the response bounds at one frequency or over a curve, its files and report.
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -19,6 +20,64 @@ using design_detail::Plot;
 using design_detail::Seconds;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+
+namespace {
+
+// The JSON of `fricrom bounds`: the peak's bounds (or the single frequency's), with every point,
+// the units of work and the files of a curve.
+void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCurveOptions& co,
+                     const BoundCurve& curve, const CurveUnitsRun& run, double wall,
+                     const std::array<fs::path, 2>& files) {
+  const std::vector<BoundsResult>& results = curve.points;
+  const bool have_peak = curve.HasPeak();
+  const BoundsResult& at = results[have_peak ? curve.peak : 0];
+  const int n = static_cast<int>(results.size());
+  json j = BoundsJson(c.model, at);
+  if (n > 1) {
+    j["peak_freq_hz"] = have_peak ? json(at.freq_hz) : json(nullptr);
+    json pts = json::array();
+    for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
+    j["points"] = pts;
+  }
+  // Pass 1 at the anchors, a continuation per chain between them, pass 2 at every point, and
+  // on the harmonic ladder the refinement of every point.
+  const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
+  const int units = static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
+                    (co.warm_start && n > 1 ? n : 0) +
+                    (UsesHarmonicLadder(system, co.bounds) ? n : 0);
+  j["units"] = {{"total", units},
+                {"computed", run.computed},
+                {"resumed", run.resumed},
+                {"threads", MpiSize() > 1 ? 1 : WorkerThreads(co.threads, n)},
+                {"ranks", MpiSize()}};
+  j["wall_s"] = wall;
+  j["files"] = {{"hdf5", files[0].string()}, {"csv", files[1].string()}};
+  std::cout << j.dump() << "\n";
+}
+
+// The text report of `fricrom bounds`: the peak's (or the single frequency's) brief report.
+void PrintBoundsText(const Case& c, const BoundCurve& curve, const CurveUnitsRun& run, double wall,
+                     const fs::path& h5p, const fs::path& csvp) {
+  const std::vector<BoundsResult>& results = curve.points;
+  const BoundsResult& at = results[curve.HasPeak() ? curve.peak : 0];
+  if (run.resumed > 0)
+    std::cout << "Resumed: " << run.resumed << " point passes from the journal\n";
+  std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
+            << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall
+            << " s\n";
+  std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
+            << (results.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
+  if (at.min.regimes.size() <= 12) {  // the report above counts them for FE interfaces
+    std::cout << "  states at min:";
+    for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
+    std::cout << "\n  states at max:";
+    for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
+    std::cout << "\n";
+  }
+  std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+}
+
+}  // namespace
 
 // ------------------------------------------------------------------------------------- bounds
 int DesignCommands::State::RunBounds() {
@@ -68,9 +127,6 @@ int DesignCommands::State::RunBounds() {
         WriteManifest(dir, "bounds", {h5p, csvp});
       });
   if (run.worker) return 0;
-  const std::vector<BoundsResult>& results = curve.points;
-  const bool have_peak = curve.HasPeak();
-  const int peak = have_peak ? curve.peak : 0;  // else the first point, whose values are NaN
   if (plot) {
     Plot("plot_bounds.py", {h5p.string(), (dir / "bounds.png").string(), "--normalise"});
     // Time histories are readable for a few contacts; FE interfaces get the contact-state map.
@@ -80,47 +136,12 @@ int DesignCommands::State::RunBounds() {
       Plot("plot_contact_map.py", {h5p.string(), (dir / "contact_map.png").string()});
   }
   bool ok = true;
-  for (const BoundsResult& b : results) ok = ok && b.IsUsable();
-  const BoundsResult& at = results[peak];
+  for (const BoundsResult& b : curve.points) ok = ok && b.IsUsable();
+  // Reported: the peak of y_max, else the first point (whose values are NaN).
   if (as_json) {
-    json j = BoundsJson(c.model, at);
-    if (freqs.size() > 1) {
-      j["peak_freq_hz"] = have_peak ? json(at.freq_hz) : json(nullptr);
-      json pts = json::array();
-      for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
-      j["points"] = pts;
-    }
-    // Pass 1 at the anchors, a continuation per chain between them, pass 2 at every point, and
-    // on the harmonic ladder the refinement of every point.
-    const int n = static_cast<int>(freqs.size());
-    const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
-    const int units = static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
-                      (co.warm_start && n > 1 ? n : 0) +
-                      (UsesHarmonicLadder(system, co.bounds) ? n : 0);
-    j["units"] = {{"total", units},
-                  {"computed", run.computed},
-                  {"resumed", run.resumed},
-                  {"threads", MpiSize() > 1 ? 1 : WorkerThreads(co.threads, int(freqs.size()))},
-                  {"ranks", MpiSize()}};
-    j["wall_s"] = wall;
-    j["files"] = {{"hdf5", h5p.string()}, {"csv", csvp.string()}};
-    std::cout << j.dump() << "\n";
+    PrintBoundsJson(c, system, co, curve, run, wall, {h5p, csvp});
   } else if (!quiet) {
-    if (run.resumed > 0)
-      std::cout << "Resumed: " << run.resumed << " point passes from the journal\n";
-    std::cout << "Response bounds of " << c.name << " (" << c.model.dof_names[c.model.response_dof]
-              << "), " << results.size() << " frequencies in " << std::setprecision(3) << wall
-              << " s\n";
-    std::cout << "  at " << std::fixed << std::setprecision(2) << at.freq_hz << " Hz"
-              << (freqs.size() > 1 ? " (peak of y_max)" : "") << ": " << at.BriefReport() << "\n";
-    if (at.min.regimes.size() <= 12) {  // the report above counts them for FE interfaces
-      std::cout << "  states at min:";
-      for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
-      std::cout << "\n  states at max:";
-      for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
-      std::cout << "\n";
-    }
-    std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";
+    PrintBoundsText(c, curve, run, wall, h5p, csvp);
   }
   return ok ? 0 : 1;
 }

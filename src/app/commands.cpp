@@ -400,53 +400,76 @@ int RunLump(const CaseArgs& args, const std::string& to, bool as_json) {
   return 0;
 }
 
+namespace {
+
+// The commands of this file (modes, frf, case, export-fe, lump): their arguments, registration
+// and dispatch.
+struct BasicCommands {
+  CaseArgs modes_args, frf_args, case_args, export_args, lump_args;
+  bool modes_json = false, lump_json = false;
+  FrfArgs fa;
+  std::string export_dir, lump_to;
+  CLI::App *modes = nullptr, *frf = nullptr, *casecmd = nullptr, *exportcmd = nullptr,
+           *lumpcmd = nullptr;
+
+  void Register(CLI::App& app) {
+    modes = app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
+    modes_args.Register(modes);
+    modes->add_flag("--json", modes_json, "Print one JSON object on stdout");
+
+    frf = app.add_subcommand("frf", "Nonlinear forced response at fixed alpha (HBM/AFT)");
+    frf_args.Register(frf);
+    frf->add_option("--alpha", fa.alpha,
+                    "Initial tangential force coefficients, one per contact: a1,a2,...");
+    frf->add_option("--freq", fa.freqs,
+                    "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
+    frf->add_option("--out", fa.out, "Output directory (default results/<case name>)");
+    frf->add_option("--max-step", fa.max_step, "Largest continuation step (scaled arclength)")
+        ->check(Positive());
+    frf->add_flag("--json", fa.as_json, "Print one JSON object on stdout");
+    frf->add_flag("--plot", fa.plot, "Draw the FRF figure (PNG) with the linear references");
+    frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
+    frf->add_flag("--quiet", fa.quiet, "Print nothing but errors");
+
+    casecmd = app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
+    case_args.Register(casecmd);
+    exportcmd = app.add_subcommand(
+        "export-fe",
+        "Write a lumped case as an FE assembly case (Matrix Market bodies, node pairs)");
+    export_args.Register(exportcmd);
+    exportcmd->add_option("--to", export_dir, "Output directory")->required();
+
+    lumpcmd = app.add_subcommand(
+        "lump", "Write a lumped 3-blade/2-damper case calibrated from an FE cascade assembly");
+    lump_args.Register(lumpcmd);
+    lumpcmd->add_option("--to", lump_to, "Lumped case file to write (TOML)")->required();
+    lumpcmd->add_flag("--json", lump_json, "Print the calibration as JSON");
+  }
+
+  // The exit code of the command given, or −1 if it is none of these.
+  int Run() {
+    if (*modes) return RunModes(modes_args, modes_json);
+    if (*frf) return RunFrf(frf_args, fa);
+    if (*casecmd) return RunCase(case_args);
+    if (*exportcmd) {
+      std::cout << "wrote " << ExportAssembly(export_args.Load(), export_dir) << "\n";
+      return 0;
+    }
+    if (*lumpcmd) return RunLump(lump_args, lump_to, lump_json);
+    return -1;
+  }
+};
+
+}  // namespace
+
 int Run(int argc, char** argv) {
   CLI::App app{"fricrom " + Version() +
                ": forced-response bounds of bladed assemblies with friction contacts"};
   app.require_subcommand(1);
   app.set_version_flag("--version", Version());
 
-  CaseArgs modes_args, frf_args, case_args;
-  bool modes_json = false;
-  CLI::App* modes =
-      app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
-  modes_args.Register(modes);
-  modes->add_flag("--json", modes_json, "Print one JSON object on stdout");
-
-  FrfArgs fa;
-  CLI::App* frf = app.add_subcommand("frf", "Nonlinear forced response at fixed alpha (HBM/AFT)");
-  frf_args.Register(frf);
-  frf->add_option("--alpha", fa.alpha,
-                  "Initial tangential force coefficients, one per contact: a1,a2,...");
-  frf->add_option("--freq", fa.freqs,
-                  "Solve at these frequencies [Hz] (comma list) instead of tracing the range");
-  frf->add_option("--out", fa.out, "Output directory (default results/<case name>)");
-  frf->add_option("--max-step", fa.max_step, "Largest continuation step (scaled arclength)")
-      ->check(Positive());
-  frf->add_flag("--json", fa.as_json, "Print one JSON object on stdout");
-  frf->add_flag("--plot", fa.plot, "Draw the FRF figure (PNG) with the linear references");
-  frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
-  frf->add_flag("--quiet", fa.quiet, "Print nothing but errors");
-
-  CLI::App* casecmd =
-      app.add_subcommand("case", "Validate a case file and print it resolved (dry run)");
-  case_args.Register(casecmd);
-  CaseArgs export_args;
-  std::string export_dir;
-  CLI::App* exportcmd = app.add_subcommand(
-      "export-fe", "Write a lumped case as an FE assembly case (Matrix Market bodies, node pairs)");
-  export_args.Register(exportcmd);
-  exportcmd->add_option("--to", export_dir, "Output directory")->required();
-
-  CaseArgs lump_args;
-  std::string lump_to;
-  bool lump_json = false;
-  CLI::App* lumpcmd = app.add_subcommand(
-      "lump", "Write a lumped 3-blade/2-damper case calibrated from an FE cascade assembly");
-  lump_args.Register(lumpcmd);
-  lumpcmd->add_option("--to", lump_to, "Lumped case file to write (TOML)")->required();
-  lumpcmd->add_flag("--json", lump_json, "Print the calibration as JSON");
-
+  BasicCommands basic;
+  basic.Register(app);
   DesignCommands design;
   design.Register(app);
   FeCommands fe;
@@ -473,14 +496,8 @@ int Run(int argc, char** argv) {
     SetBlasThreads(1);
   }
   try {
-    if (*modes) return RunModes(modes_args, modes_json);
-    if (*frf) return RunFrf(frf_args, fa);
-    if (*casecmd) return RunCase(case_args);
-    if (*exportcmd) {
-      std::cout << "wrote " << ExportAssembly(export_args.Load(), export_dir) << "\n";
-      return 0;
-    }
-    if (*lumpcmd) return RunLump(lump_args, lump_to, lump_json);
+    const int basic_rc = basic.Run();
+    if (basic_rc >= 0) return basic_rc;
     const int rc = design.Run();
     if (rc >= 0) return rc;
     const int fe_rc = fe.Run();

@@ -136,6 +136,25 @@ bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& p
   return true;
 }
 
+// Folds in λ: a fold counts once λ has come back from its running extreme by more than the
+// tolerance (the sampled contact law makes the branch piecewise smooth, with sub-tolerance
+// zig-zags).
+struct FoldTracker {
+  double travel;   // +1 while λ grows, −1 while it falls
+  double extreme;  // the running extreme of λ in the direction of travel
+  // True if the new λ completes a fold.
+  bool Turned(double lambda, double tolerance) {
+    if ((lambda - extreme) * travel > 0.0) {
+      extreme = lambda;
+      return false;
+    }
+    if (std::abs(lambda - extreme) <= tolerance) return false;
+    travel = -travel;
+    extreme = lambda;
+    return true;
+  }
+};
+
 }  // namespace
 
 ContinuationSummary Continue(const ParametricSystem& system, const ContinuationOptions& options,
@@ -185,7 +204,7 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
   const double lambda_end_scaled = options.lambda_end / s.ls;
   std::shared_ptr<const dense::Lu> lu;  // the last factorised bordered Jacobian
   double ds = options.initial_step;
-  double travel = dir, lambda_extreme = z[n];
+  FoldTracker folds{dir, z[n]};
   while (summary.points < options.max_points) {
     Eigen::VectorXd z_new = z + ds * tau;
     Corrector corr(s, tau, z_new);
@@ -224,17 +243,8 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
       summary.status = ContinuationStatus::kReachedEnd;
       return summary;
     }
-    // A fold counts once λ has come back from its running extreme by more than the tolerance:
-    // the sampled contact law makes the branch piecewise smooth, with sub-tolerance zig-zags.
-    bool turned = false;
-    if ((z_new[n] - lambda_extreme) * travel > 0.0) {
-      lambda_extreme = z_new[n];
-    } else if (std::abs(z_new[n] - lambda_extreme) > options.turning_tolerance) {
-      turned = true;
-      ++summary.turning_points;
-      travel = -travel;
-      lambda_extreme = z_new[n];
-    }
+    const bool turned = folds.Turned(z_new[n], options.turning_tolerance);
+    if (turned) ++summary.turning_points;
     z = z_new;
     tau = tau_new;
     if (!emit(z, cs.iterations, turned)) {
