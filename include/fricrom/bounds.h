@@ -93,6 +93,18 @@ struct BoundsOptions {
   // the multi-start costs a fifth of its price at H = 3 (docs/lumped-vs-fe.md). Ignored when the
   // system has H = 1; an error where the system cannot drop harmonics (loads above H = 1).
   int search_harmonics = 0;
+  // Harmonic ladder: the refinement at H of the minimum stops once the response falls to
+  // negligible_minimum times the H = 1 search's maximum. R is then below this ratio, which is all
+  // the robustness needs, and the bound is that feasible point (BoundSolution::stationary false).
+  // Next to an anti-resonance of the response DOF the refinement otherwise drives y_min down by
+  // decades at R ~ 0 (FE cascade's default 50-point curve: 24 points, 10 % of its time; every
+  // other bound the same). Only the refinement: the search's minima start the neighbours' runs
+  // of a curve's pass 2, where stopping them early cost more than it saved. 0: the refinement
+  // runs to its stopping tests.
+  double negligible_minimum = 1e-3;
+  // A minimising run of the amplitude objective stops at a response at or below this [m]; 0:
+  // never. The harmonic ladder sets it from negligible_minimum for its refinement.
+  double minimum_stop_m = 0.0;
   // Progress inside one bound computation, on the caller's thread: (stage, done, total) with
   // stage "seeds" (after each seed's min and max runs) and "samples" (after each check sample),
   // on the harmonic ladder then "harmonic refinement" (0 of 1 at its start, 1 at its end).

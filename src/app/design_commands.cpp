@@ -77,6 +77,18 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "Reduced-space runs: accept a step against the largest of the last N "
                   "objectives (nonmonotone; default 10); 1: monotone Armijo")
       ->check(CLI::Range(1, 100));
+  cmd->add_option("--negligible-minimum", negligible_minimum,
+                  "Harmonic ladder: the refinement of the minimum at H stops once y_min falls to "
+                  "this fraction of the H = 1 maximum (R is then below it); 0: never (default "
+                  "0.001)")
+      ->check(CLI::Validator(
+          [](const std::string& v) {
+            double r = 0.0;
+            const bool number = CLI::detail::lexical_cast(v, r);
+            return number && r >= 0.0 && r < 1.0 ? std::string()
+                                                 : "must be a number in [0, 1), got " + v;
+          },
+          "in [0, 1)"));
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "

@@ -43,6 +43,7 @@ struct DesignCommands::State {
   std::string seeds, out, objective = "amplitude", method = "reduced";
   int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
   int line_search_memory = BoundsOptions{}.line_search_memory;
+  double negligible_minimum = BoundsOptions{}.negligible_minimum;
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
@@ -74,6 +75,7 @@ struct DesignCommands::State {
       throw CLI::ValidationError("--method", "unknown: " + method);
     o.check_samples = check_samples;
     o.line_search_memory = line_search_memory;
+    o.negligible_minimum = negligible_minimum;
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
@@ -104,6 +106,7 @@ struct DesignCommands::State {
               {"method", method},
               {"check_samples", check_samples},
               {"line_search_memory", line_search_memory},
+              {"negligible_minimum", negligible_minimum},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
               {"interface_seeds", interface_seeds}};

@@ -32,6 +32,8 @@ struct RunSetup {
   // reach it (BoundsOptions::stop_dominated_runs).
   double incumbent = std::numeric_limits<double>::quiet_NaN();
   int line_search_memory = 1;  // BoundsOptions::line_search_memory
+  // A run stops once its objective is at or below this (BoundsOptions::minimum_stop_m).
+  double stop_below = -std::numeric_limits<double>::infinity();
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,

@@ -67,6 +67,16 @@ std::string FormatRegimes(const std::vector<ContactRegime>& regimes) {
 }  // namespace
 
 bool BoundsOptions::IsValid(std::string* error) const {
+  if (!(negligible_minimum >= 0.0 && negligible_minimum < 1.0)) {
+    *error = "BoundsOptions.negligible_minimum must lie in [0, 1), got " +
+             std::to_string(negligible_minimum);
+    return false;
+  }
+  if (!(minimum_stop_m >= 0.0 && std::isfinite(minimum_stop_m))) {
+    *error = "BoundsOptions.minimum_stop_m must be finite and >= 0, got " +
+             std::to_string(minimum_stop_m);
+    return false;
+  }
   if (line_search_memory < 1 || line_search_memory > 100) {
     *error = "BoundsOptions.line_search_memory must lie in [1, 100], got " +
              std::to_string(line_search_memory);
@@ -471,6 +481,11 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       setup.incumbent = options.stop_dominated_runs && std::isfinite(incumbent[dir])
                             ? setup.sign * incumbent[dir] / setup.objective_scale
                             : std::numeric_limits<double>::quiet_NaN();
+      const bool stops = !maximise_response && options.objective == BoundsOptions::kAmplitude &&
+                         options.minimum_stop_m > 0.0;
+      setup.stop_below =
+          stops ? options.minimum_stop_m * options.minimum_stop_m / setup.objective_scale
+                : -std::numeric_limits<double>::infinity();
       BoundSolution sol;
       if (st[s].kkt[dir]) {
         sol.x = x0;

@@ -323,6 +323,13 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
     phi_ = t.phi;
     lu_ = std::move(t.lu);
     if (phi_ < best_.phi) best_ = Iterate{x_, a_, g_, phi_, lu_};
+    if (phi_ <= s_.stop_below) {
+      out_.iterations = it + 1;
+      BoundSolution negligible =
+          Finish(BoundStatus::kConverged, "reduced space: stopped at a negligible response");
+      negligible.stationary = false;
+      return negligible;
+    }
     recent_.push_back(phi_);
     if (std::ssize(recent_) > memory_) recent_.erase(recent_.begin());
     if (chord_) regimes_ = t.regimes.empty() ? sys_.ContactRegimes(x_, s_.omega, a_) : t.regimes;

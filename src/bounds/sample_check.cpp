@@ -255,6 +255,9 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   // the refinement's time on the 50-point FE curve and found nothing the search at H = 1 had
   // not; BoundsOptions::line_search_memory).
   at_h.line_search_memory = 1;
+  if (options.negligible_minimum > 0.0 && low.max.IsUsable()) {
+    at_h.minimum_stop_m = options.negligible_minimum * low.max.amplitude;
+  }
   // Near a resonance the refinement is most of a bound's time: its stage shows (0 of 1, then 1).
   if (options.progress) options.progress("harmonic refinement", 0, 1);
   ImproveBounds(system, low.freq_hz, at_h, known, &result);

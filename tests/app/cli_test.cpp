@@ -171,6 +171,16 @@ TEST(Cli, LineSearchMemoryOutOfRangeIsAnError) {
   }
 }
 
+TEST(Cli, NegligibleMinimumOutsideZeroToOneIsAnError) {
+  for (const char* bad : {"1", "-0.1", "nan", "x"}) {
+    const CliRun r =
+        Stderr("bounds " + Quote(kBaseline) + " --freq 266 --negligible-minimum " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.output.find("--negligible-minimum"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("[0, 1)"), std::string::npos) << r.output;
+  }
+}
+
 TEST(Cli, BadOverrideSyntax) {
   const CliRun r = Stderr("modes " + Quote(kBaseline) + " --set gamma=abc");
   EXPECT_EQ(r.exit_code, 2);

@@ -99,6 +99,47 @@ TEST(Ladder, ProgressShowsTheSearchAndThenTheRefinement) {
   EXPECT_EQ(std::count(stages.begin(), stages.end(), "samples"), o.check_samples);
 }
 
+// The refinement of the minimum at H stops once the response falls to negligible_minimum times
+// the H = 1 maximum (0: it refines to its stopping tests). At 268 Hz the refinement runs from a
+// non-stationary H = 1 minimum (the first iterate of a run from this seed) to a KKT point; with a
+// ratio below that point's y_min / y_max nothing changes, with one above it the refinement ends
+// at the stop: a non-stationary point at or below it, never below the full refinement's minimum.
+TEST(Ladder, RefinementOfTheMinimumStopsAtANegligibleResponse) {
+  const double f = 268.0;
+  BoundsOptions o;
+  o.check_samples = 0;
+  o.alpha_seeds = {Eigen::Vector4d(-0.7, 0.2, 0.6, -0.1)};
+  BoundsResult low = ComputeBounds(BaselineAt(1), f, o);
+  BoundsOptions first = o;
+  first.minimum_stop_m = 1.0;  // every minimising run ends on its first iterate
+  low.min = ComputeBounds(BaselineAt(1), f, first).min;
+  ASSERT_TRUE(low.IsUsable() && !low.min.stationary) << low.BriefReport();
+
+  o.search_harmonics = 1;
+  o.negligible_minimum = 0.0;
+  const BoundsResult full = RefineBoundsAtHarmonics(BaselineAt(3), low, o);
+  ASSERT_TRUE(full.IsUsable()) << full.BriefReport();
+  ASSERT_TRUE(full.min.stationary) << full.min.message;
+  ASSERT_GE(full.min.iterations, 1) << "the refinement must run for this test";
+  const double ratio = full.min.amplitude / low.max.amplitude;
+  ASSERT_LT(ratio, 0.99);
+
+  o.negligible_minimum = 0.5 * ratio;
+  const BoundsResult below = RefineBoundsAtHarmonics(BaselineAt(3), low, o);
+  EXPECT_EQ(below.min.amplitude, full.min.amplitude);
+  EXPECT_TRUE(below.min.stationary);
+
+  o.negligible_minimum = 0.99;
+  const BoundsResult stopped = RefineBoundsAtHarmonics(BaselineAt(3), low, o);
+  ASSERT_TRUE(stopped.IsUsable()) << stopped.BriefReport();
+  ExpectSolutionAtH3(f, stopped.min, true);
+  EXPECT_FALSE(stopped.min.stationary);
+  EXPECT_NE(stopped.min.message.find("negligible"), std::string::npos) << stopped.min.message;
+  EXPECT_LE(stopped.min.amplitude, 0.99 * low.max.amplitude);
+  EXPECT_GE(stopped.min.amplitude, full.min.amplitude * (1 - 1e-12));
+  EXPECT_EQ(stopped.max.amplitude, full.max.amplitude);
+}
+
 TEST(Ladder, ChangesNothingAtH1) {
   BoundsOptions ladder;
   ladder.search_harmonics = 1;
