@@ -93,14 +93,17 @@ struct BoundsOptions {
   // the multi-start costs a fifth of its price at H = 3 (docs/lumped-vs-fe.md). Ignored when the
   // system has H = 1; an error where the system cannot drop harmonics (loads above H = 1).
   int search_harmonics = 0;
-  // Harmonic ladder: the refinement at H of the minimum stops once the response falls to
-  // negligible_minimum times the H = 1 search's maximum. R is then below this ratio, which is all
+  // Minima that start nothing else stop at a negligible response: the harmonic ladder's
+  // refinement at H of the minimum, and a curve's pass 2 (runs from the neighbours' optima,
+  // RefineFromNeighbours), stop a minimum run once the response falls to negligible_minimum times
+  // the point's maximum found so far (the H = 1 search's, pass 1's), and pass 2 makes no minimum
+  // runs where pass 1's minimum is below that already. R is then below this ratio, which is all
   // the robustness needs, and the bound is that feasible point (BoundSolution::stationary false).
-  // Next to an anti-resonance of the response DOF the refinement otherwise drives y_min down by
-  // decades at R ~ 0 (FE cascade's default 50-point curve: 24 points, 10 % of its time; every
-  // other bound the same). Only the refinement: the search's minima start the neighbours' runs
-  // of a curve's pass 2, where stopping them early cost more than it saved. 0: the refinement
-  // runs to its stopping tests.
+  // Next to an anti-resonance of the response DOF the runs otherwise drive y_min down by decades
+  // at R ~ 0 (FE cascade's default 50-point curve: 24 points, 10 % of its time in the
+  // refinement alone; every maximum the same). Not the search's own runs: a curve's pass 1
+  // minima start the neighbours' runs, where stopping them early cost more than it saved
+  // (benchmarks/README.md, 2026-11-27). 0: every run goes on to its stopping tests.
   double negligible_minimum = 1e-3;
   // A minimising run of the amplitude objective stops at a response at or below this [m]; 0:
   // never. The harmonic ladder sets it from negligible_minimum for its refinement.

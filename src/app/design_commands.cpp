@@ -78,9 +78,9 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "objectives (nonmonotone; default 10); 1: monotone Armijo")
       ->check(CLI::Range(1, 100));
   cmd->add_option("--negligible-minimum", negligible_minimum,
-                  "Harmonic ladder: the refinement of the minimum at H stops once y_min falls to "
-                  "this fraction of the H = 1 maximum (R is then below it); 0: never (default "
-                  "0.001)")
+                  "Minimum runs whose result starts nothing else (the harmonic ladder's "
+                  "refinement, a curve's neighbour starts) stop once y_min falls to this "
+                  "fraction of the point's y_max (R is then below it); 0: never (default 0.001)")
       ->check(CLI::Validator(
           [](const std::string& v) {
             double r = 0.0;

@@ -58,6 +58,16 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   // keeps their branch of periodic solutions, where a cold start at their α may not; one that
   // neither reaches is dropped, not started cold (50-point FE curve: 272 s of cold routes at
   // 1101.02 Hz in pass 2).
+  // Pass 2's minima start nothing else (the ladder's refinement at most): its minimum runs stop
+  // at a negligible response, and make none where pass 1's minimum is negligible already
+  // (BoundsOptions::negligible_minimum).
+  BoundsOptions options = bounds;
+  bool run_min = true;
+  if (bounds.negligible_minimum > 0.0 && bounds.objective == BoundsOptions::kAmplitude &&
+      own.max.IsUsable()) {
+    options.minimum_stop_m = bounds.negligible_minimum * own.max.amplitude;
+    run_min = !(own.min.IsUsable() && own.min.amplitude <= options.minimum_stop_m);
+  }
   std::vector<KnownSolution> known;
   for (int j : {i - 1, i + 1}) {
     if (j < 0 || j >= n) continue;
@@ -65,13 +75,13 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
       if (AlreadyTried(*s, own)) continue;
       bool dup = false;
       for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
-      if (!dup) known.push_back({s->x, s->alpha, true, true, false});
+      if (!dup) known.push_back({s->x, s->alpha, run_min, true, false});
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
   BoundsResult out = own;
   // Only the neighbours' optima: pass 1 already ran the seed set and the sample check.
-  ImproveBounds(system, own.freq_hz, bounds, known, &out);
+  ImproveBounds(system, own.freq_hz, options, known, &out);
   // A point's time is what it cost in all passes (the curve's per-point wall times).
   out.wall_s =
       own.wall_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

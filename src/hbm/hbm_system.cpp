@@ -89,6 +89,34 @@ void CheckInputs(const HbmSystem& sys, const Eigen::VectorXd& x, const Eigen::Ve
   }
 }
 
+// ∂(n_i N̂ + t_i T̂)/∂x of one contact added to the Jacobian: the blocks of the relative
+// displacement along each direction e, + on a side's own DOFs, − across the two sides.
+void AddContactJacobian(const HbmSystem& sys, const Contact& c, const ContactForceBlocks& f,
+                        Eigen::MatrixXd* jacobian) {
+  const int dim = static_cast<int>(c.normal.size());
+  const int nh = sys.num_coefficients();
+  for (int i = 0; i < dim; ++i) {    // row direction
+    for (int e = 0; e < dim; ++e) {  // column direction
+      const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * f.dn_dv +
+                                    c.tangent[i] * (c.tangent[e] * f.dt_du + c.normal[e] * f.dt_dv);
+      const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
+      const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
+      for (int sr = 0; sr < 2; ++sr) {
+        if (rows[sr] < 0) continue;
+        for (int sc = 0; sc < 2; ++sc) {
+          if (cols[sc] < 0) continue;
+          const double sign = (sr == sc) ? 1.0 : -1.0;
+          for (int j = 0; j < nh; ++j) {
+            for (int l = 0; l < nh; ++l) {
+              (*jacobian)(sys.Index(rows[sr], j), sys.Index(cols[sc], l)) += sign * block(j, l);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 // The shared AFT (contact_forces.h) and the per-evaluation scratch of one contact.
@@ -249,32 +277,7 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
     }
     if (!derivs) continue;
 
-    if (request.jacobian) {
-      const Eigen::MatrixXd& a_tu = w.f.dt_du;
-      const Eigen::MatrixXd& a_tv = w.f.dt_dv;
-      const Eigen::MatrixXd& a_nv = w.f.dn_dv;
-      for (int i = 0; i < dim; ++i) {    // row direction
-        for (int e = 0; e < dim; ++e) {  // column direction
-          // d(n_i N̂ + t_i T̂)/d(relative displacement along e)
-          const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * a_nv +
-                                        c.tangent[i] * (c.tangent[e] * a_tu + c.normal[e] * a_tv);
-          const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
-          const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
-          for (int sr = 0; sr < 2; ++sr) {
-            if (rows[sr] < 0) continue;
-            for (int sc = 0; sc < 2; ++sc) {
-              if (cols[sc] < 0) continue;
-              const double sign = (sr == sc) ? 1.0 : -1.0;
-              for (int j = 0; j < nh; ++j) {
-                for (int l = 0; l < nh; ++l) {
-                  out->jacobian(Index(rows[sr], j), Index(cols[sc], l)) += sign * block(j, l);
-                }
-              }
-            }
-          }
-        }
-      }
-    }
+    if (request.jacobian) AddContactJacobian(*this, c, w.f, &out->jacobian);
     if (request.alpha_jacobian) {
       const Eigen::VectorXd& gh = w.f.dt_dalpha;
       for (int i = 0; i < dim; ++i) {

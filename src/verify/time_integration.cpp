@@ -196,6 +196,23 @@ struct CentralDifference {
   Eigen::MatrixXd a_inv, p, q;
 };
 
+// Whether central differences are stable at dt = period / steps_per_period (ω_max dt / 2 within
+// stability_fraction); if not, the result is kUnstable and says how many steps would be.
+bool StableStep(double omega_max, double period, const TimeIntegrationOptions& options,
+                TimeIntegrationResult* result) {
+  result->stability_ratio = omega_max * (period / options.steps_per_period) / 2.0;
+  if (result->stability_ratio <= options.stability_fraction) return true;
+  std::ostringstream s;
+  s << "time step too large for central differences: omega_max*dt/2 = " << result->stability_ratio
+    << " > " << options.stability_fraction << " (full-stick omega_max = " << Hz(omega_max)
+    << " Hz); use at least "
+    << static_cast<int>(std::ceil(omega_max * period / (2.0 * options.stability_fraction)))
+    << " steps per period";
+  result->status = TimeIntegrationResult::Status::kUnstable;
+  result->message = s.str();
+  return false;
+}
+
 TimeIntegrationResult IntegrateCentralDifference(const Model& model,
                                                  const Eigen::VectorXd& initial_alpha,
                                                  const TimeIntegrationOptions& options,
@@ -210,18 +227,7 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
   const int ns = options.steps_per_period;
   const double period = 1.0 / options.freq_hz;
   const double dt = period / ns;
-  result.stability_ratio = omega_max * dt / 2.0;
-  if (result.stability_ratio > options.stability_fraction) {
-    std::ostringstream s;
-    s << "time step too large for central differences: omega_max*dt/2 = " << result.stability_ratio
-      << " > " << options.stability_fraction << " (full-stick omega_max = " << Hz(omega_max)
-      << " Hz); use at least "
-      << static_cast<int>(std::ceil(omega_max * period / (2.0 * options.stability_fraction)))
-      << " steps per period";
-    result.status = Status::kUnstable;
-    result.message = s.str();
-    return result;
-  }
+  if (!StableStep(omega_max, period, options, &result)) return result;
 
   Eigen::VectorXd f0;
   Eigen::MatrixXd fh;
