@@ -100,8 +100,8 @@ struct BoundsOptions {
   // runs where pass 1's minimum is below that already. R is then below this ratio, which is all
   // the robustness needs, and the bound is that feasible point (BoundSolution::stationary false).
   // Next to an anti-resonance of the response DOF the runs otherwise drive y_min down by decades
-  // at R ~ 0 (FE cascade's default 50-point curve: 24 points, 10 % of its time in the
-  // refinement alone; every maximum the same). Not the search's own runs: a curve's pass 1
+  // at R ~ 0 (FE cascade's default 50-point curve: 23 points; the curve's work −10 % by the
+  // refinement's stop, −14 % with pass 2's; every maximum the same). Not the search's own runs: a curve's pass 1
   // minima start the neighbours' runs, where stopping them early cost more than it saved
   // (benchmarks/README.md, 2026-11-27). 0: every run goes on to its stopping tests.
   double negligible_minimum = 1e-3;
