@@ -101,9 +101,9 @@ struct BoundsOptions {
   // the robustness needs, and the bound is that feasible point (BoundSolution::stationary false).
   // Next to an anti-resonance of the response DOF the runs otherwise drive y_min down by decades
   // at R ~ 0 (FE cascade's default 50-point curve: 23 points; the curve's work −10 % by the
-  // refinement's stop, −14 % with pass 2's; every maximum the same). Not the search's own runs: a curve's pass 1
-  // minima start the neighbours' runs, where stopping them early cost more than it saved
-  // (benchmarks/README.md, 2026-11-27). 0: every run goes on to its stopping tests.
+  // refinement's stop, −14 % with pass 2's; every maximum the same). Not the search's own runs: a
+  // curve's pass 1 minima start the neighbours' runs, where stopping them early cost more than it
+  // saved (benchmarks/README.md, 2026-11-27). 0: every run goes on to its stopping tests.
   double negligible_minimum = 1e-3;
   // A minimising run of the amplitude objective stops at a response at or below this [m]; 0:
   // never. The harmonic ladder sets it from negligible_minimum for its refinement.
