@@ -155,6 +155,30 @@ struct FoldTracker {
   }
 };
 
+// The point at λ_end: interpolated between z and z_new (which straddle it), corrected by Newton
+// at fixed λ; *z_end is meaningful when the returned solve is usable.
+NewtonSummary SolveAtEnd(const ParametricSystem& system, const ContinuationOptions& options,
+                         const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& z_new,
+                         Eigen::VectorXd* z_end) {
+  const int n = s.n();
+  const double lambda_end_scaled = options.lambda_end / s.ls;
+  const double f = (lambda_end_scaled - z[n]) / (z_new[n] - z[n]);
+  Eigen::VectorXd x_end = s.xs * (z.head(n) + f * (z_new.head(n) - z.head(n)));
+  NewtonSummary es =
+      SolveNewton(FixedLambda(system, options.lambda_end), options.corrector, &x_end);
+  z_end->resize(n + 1);
+  *z_end << x_end / s.xs, lambda_end_scaled;
+  return es;
+}
+
+// The next arc-length step: doubled at no corrector iterations, halved at twice the target.
+double NextStep(const ContinuationOptions& options, double ds, int corrector_iterations) {
+  const double factor =
+      std::pow(2.0, static_cast<double>(options.target_iterations - corrector_iterations) /
+                        options.target_iterations);
+  return std::clamp(ds * std::clamp(factor, 0.5, 2.0), options.min_step, options.max_step);
+}
+
 }  // namespace
 
 ContinuationSummary Continue(const ParametricSystem& system, const ContinuationOptions& options,
@@ -230,16 +254,10 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
     }
     // Past the end: land exactly on λ_end from the interpolated state, then stop.
     if (dir * (z_new[n] - lambda_end_scaled) >= 0.0) {
-      const double f = (lambda_end_scaled - z[n]) / (z_new[n] - z[n]);
-      Eigen::VectorXd x_end = s.xs * (z.head(n) + f * (z_new.head(n) - z.head(n)));
-      NewtonSummary es =
-          SolveNewton(FixedLambda(system, options.lambda_end), options.corrector, &x_end);
+      Eigen::VectorXd z_end;
+      const NewtonSummary es = SolveAtEnd(system, options, s, z, z_new, &z_end);
       summary.evaluations += es.evaluations;
-      if (es.IsSolutionUsable()) {
-        Eigen::VectorXd z_end(n + 1);
-        z_end << x_end / s.xs, lambda_end_scaled;
-        emit(z_end, es.iterations, false);
-      }
+      if (es.IsSolutionUsable()) emit(z_end, es.iterations, false);
       summary.status = ContinuationStatus::kReachedEnd;
       return summary;
     }
@@ -251,10 +269,7 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
       summary.status = ContinuationStatus::kStopped;
       return summary;
     }
-    const double factor =
-        std::pow(2.0, static_cast<double>(options.target_iterations - cs.iterations) /
-                          options.target_iterations);
-    ds = std::clamp(ds * std::clamp(factor, 0.5, 2.0), options.min_step, options.max_step);
+    ds = NextStep(options, ds, cs.iterations);
   }
   summary.status = ContinuationStatus::kMaxPoints;
   return summary;

@@ -38,15 +38,6 @@ std::set<size_t> LeMatrixEnds(const std::string& b) {
   return ends;
 }
 
-void ExpectPrefixOf(const FeModel& part, const FeModel& full) {
-  ASSERT_LE(part.matrices.size(), full.matrices.size());
-  for (size_t i = 0; i < part.matrices.size(); ++i) {
-    EXPECT_EQ(part.matrices[i].name, full.matrices[i].name);
-    EXPECT_EQ(Re(part.matrices[i]), Re(full.matrices[i]));
-    EXPECT_EQ(Im(part.matrices[i]), Im(full.matrices[i]));
-  }
-}
-
 TEST(Op4Reader, TruncatedBinaryAtEveryOffset) {
   TempDir tmp;
   for (const char* f : {"double_dense_le.op4", "double_nonbigmat_le_i64.op4"}) {

@@ -49,6 +49,17 @@ inline void ExpectError(const std::string& path, const std::vector<std::string>&
   }
 }
 
+// The first part.matrices.size() matrices of `full` equal those of `part` (name, real and
+// imaginary parts); `part` holds no more matrices than `full`.
+inline void ExpectPrefixOf(const FeModel& part, const FeModel& full) {
+  ASSERT_LE(part.matrices.size(), full.matrices.size());
+  for (size_t i = 0; i < part.matrices.size(); ++i) {
+    EXPECT_EQ(part.matrices[i].name, full.matrices[i].name);
+    EXPECT_EQ(Re(part.matrices[i]), Re(full.matrices[i]));
+    EXPECT_EQ(Im(part.matrices[i]), Im(full.matrices[i]));
+  }
+}
+
 // ---- little-endian helpers for editing binary fixtures -----------------------------------
 
 inline int32_t GetI32(const std::string& b, size_t off) {
