@@ -43,6 +43,13 @@ struct FrfPoint {
 // Progress: (points done, points total or −1 when unknown).
 using FrfProgress = std::function<void(int, int)>;
 
+// One step of SolveAtFrequencies: the point at f_hz warm-started from the converged point
+// (f_from_hz, x_from), with options' fallbacks if Newton fails, and last a continuation in
+// frequency from that point.
+FrfPoint SolveNextFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                            double f_from_hz, const Eigen::VectorXd& x_from, double f_hz,
+                            const FrfOptions& options);
+
 // Solves R(x; 2πf, α) = 0 at each frequency in order, each start warm from the last converged
 // point, falling back to the full-stick linear solution and then to a continuation from the last
 // converged point. A point that still fails keeps its status; its x is the last iterate.

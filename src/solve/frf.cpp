@@ -306,6 +306,27 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   return p;
 }
 
+FrfPoint SolveNextFrequency(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                            double f_from_hz, const Eigen::VectorXd& x_from, double f_hz,
+                            const FrfOptions& options) {
+  FrfPoint p = SolveAtFrequency(system, alpha, f_hz, x_from, options);
+  if (p.status == SolverStatus::kConverged) return p;
+  // Last resort: continuation in frequency from the converged point.
+  HbmFrequencyFamily family(system, alpha);
+  const ContinuationOptions copt =
+      MakeContinuationOptions(system, options, f_from_hz, f_hz, x_from);
+  Eigen::VectorXd x_end;
+  const ContinuationSummary cs = Continue(family, copt, x_from, [&](const ContinuationPoint& cp) {
+    x_end = cp.x;
+    return true;
+  });
+  if (cs.status == ContinuationStatus::kReachedEnd) {
+    FrfPoint q = SolveAtFrequency(system, alpha, f_hz, x_end, options);
+    if (q.status == SolverStatus::kConverged) return q;
+  }
+  return p;
+}
+
 std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system,
                                          const Eigen::VectorXd& alpha,
                                          const std::vector<double>& freqs_hz,
@@ -322,22 +343,8 @@ std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system,
       throw std::invalid_argument("SolveAtFrequencies: frequencies must be positive, got " +
                                   std::to_string(f));
     }
-    FrfPoint p =
-        SolveAtFrequency(system, alpha, f, have_last ? last_x : Eigen::VectorXd(), options);
-    // Last resort: continuation in frequency from the previous converged point.
-    if (p.status != SolverStatus::kConverged && have_last) {
-      HbmFrequencyFamily family(system, alpha);
-      ContinuationOptions copt = MakeContinuationOptions(system, options, last_f, f, last_x);
-      Eigen::VectorXd x_end;
-      ContinuationSummary cs = Continue(family, copt, last_x, [&](const ContinuationPoint& cp) {
-        x_end = cp.x;
-        return true;
-      });
-      if (cs.status == ContinuationStatus::kReachedEnd) {
-        const FrfPoint q = SolveAtFrequency(system, alpha, f, x_end, options);
-        if (q.status == SolverStatus::kConverged) p = q;
-      }
-    }
+    FrfPoint p = have_last ? SolveNextFrequency(system, alpha, last_f, last_x, f, options)
+                           : SolveAtFrequency(system, alpha, f, Eigen::VectorXd(), options);
     if (p.status == SolverStatus::kConverged) {
       have_last = true;
       last_x = p.x;
