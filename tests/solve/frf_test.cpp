@@ -274,6 +274,37 @@ TEST(Frf, SingleFrequencySolvesConvergeOnAnAlphaGrid) {
 }
 
 // Defect 8: a point that does not converge has a NaN amplitude.
+// A continuation in frequency that runs out of points short of f ends in Newton at f from its
+// last point (a path across a resonance stops a fraction of a hertz short on the FE cascade).
+// Lumped baseline, α = 0.5, 267 Hz: plain Newton fails; given 3 points per fallback path the
+// α homotopy cannot reach α and the continuation from 0.95 f ends 13 Hz short, yet the point
+// converges on the branch the uncapped fallbacks find.
+TEST(Frf, ContinuationShortOfItsFrequencyIsPolishedThere) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Constant(0.5);
+  const double f = 267.0;
+  FrfOptions plain;
+  plain.use_fallbacks = false;
+  ASSERT_NE(SolveAtFrequency(sys, alpha, f, Eigen::VectorXd(), plain).status,
+            SolverStatus::kConverged);
+  FrfOptions capped;
+  capped.fallback_max_points = 3;
+  FrfOptions path = capped;
+  path.max_points = 3;
+  const FrfTrace short_path = TraceFrf(sys, alpha, 0.95 * f, f, path);
+  ASSERT_EQ(short_path.summary.status, ContinuationStatus::kMaxPoints);
+  ASSERT_LT(short_path.points.back().freq_hz, f - 10.0);
+  const FrfPoint p = SolveAtFrequency(sys, alpha, f, Eigen::VectorXd(), capped);
+  ASSERT_EQ(p.status, SolverStatus::kConverged) << p.message;
+  const FrfPoint full = SolveAtFrequency(sys, alpha, f, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(full.status, SolverStatus::kConverged);
+  EXPECT_NEAR(p.amplitude, full.amplitude, 1e-9 * full.amplitude);
+  HbmEvaluation e;
+  sys.Evaluate(p.x, kTwoPi * f, alpha, HbmRequest{false, false, false}, &e);
+  EXPECT_LE(e.residual.norm(), 1e-8 * sys.ResidualScale());
+}
+
 TEST(Frf, FailedPointHasNoAmplitude) {
   const Case cs = testing::LoadBaseline();
   HbmSystem sys(cs.model, HbmOptions{1, 128});
