@@ -24,6 +24,8 @@ struct FrfOptions {
   bool use_fallbacks = true;
   // Points each fallback path may take (the α homotopy, each frequency continuation): a path
   // stalled at a kink or crossing resonances is given up early instead of running for minutes.
+  // A frequency continuation that runs out of points still ends in Newton at f from its last
+  // point (next to a resonance it stops a few hertz short, where Newton converges).
   int fallback_max_points = 2000;
   bool IsValid(std::string* error) const;
 };
