@@ -50,6 +50,12 @@ void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCu
                 {"resumed", run.resumed},
                 {"threads", MpiSize() > 1 ? 1 : WorkerThreads(co.threads, n)},
                 {"ranks", MpiSize()}};
+  json stages = json::array();  // where the time went: this run's wall time per stage
+  for (const CurveStage& s : run.stages) {
+    stages.push_back(
+        {{"stage", s.name}, {"units", s.units}, {"computed", s.computed}, {"wall_s", s.wall_s}});
+  }
+  j["stages"] = stages;
   j["wall_s"] = wall;
   j["files"] = {{"hdf5", files[0].string()}, {"csv", files[1].string()}};
   std::cout << j.dump() << "\n";
@@ -72,6 +78,16 @@ void PrintBoundsText(const Case& c, const BoundCurve& curve, const CurveUnitsRun
     for (const std::string& r : RegimeNames(at.min.regimes)) std::cout << " " << r;
     std::cout << "\n  states at max:";
     for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
+    std::cout << "\n";
+  }
+  if (run.stages.size() > 1) {  // a curve's stages; one frequency has just the one
+    std::cout << "  stages:";
+    const char* sep = " ";
+    for (const CurveStage& s : run.stages) {
+      std::cout << sep << s.name << " " << std::defaultfloat << std::setprecision(3) << s.wall_s
+                << " s";
+      sep = ", ";
+    }
     std::cout << "\n";
   }
   std::cout << "  wrote " << h5p.string() << ", " << csvp.string() << "\n";

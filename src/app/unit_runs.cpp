@@ -1,6 +1,7 @@
 #include "app/unit_runs.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -198,6 +199,7 @@ class CurveUnits {
     const int total = static_cast<int>(ids.size());
     int done = total - static_cast<int>(pending.size());
     run_.resumed += done;
+    const auto t0 = std::chrono::steady_clock::now();
     // The stage's name shows at its start: a curve of one point (bounds --freq) would otherwise
     // show nothing during a minutes-long refinement.
     if (options_.progress) options_.progress(stage, done, total);
@@ -208,18 +210,21 @@ class CurveUnits {
     };
     if (ranks_) {
       DistributeUnits(pending, unit, record);
-      return;
+    } else {
+      std::map<int, std::string> texts;
+      std::mutex lock;
+      RunWorkUnits(
+          pending, WorkerThreads(options_.threads, total),
+          [&](int i) {
+            std::string t = unit(i);
+            const std::lock_guard<std::mutex> g(lock);
+            texts[i] = std::move(t);
+          },
+          [&](int i) { record(i, texts.at(i)); });
     }
-    std::map<int, std::string> texts;
-    std::mutex lock;
-    RunWorkUnits(
-        pending, WorkerThreads(options_.threads, total),
-        [&](int i) {
-          std::string t = unit(i);
-          const std::lock_guard<std::mutex> g(lock);
-          texts[i] = std::move(t);
-        },
-        [&](int i) { record(i, texts.at(i)); });
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run_.stages.push_back({stage, total, static_cast<int>(pending.size()), wall_s});
   }
 
   const std::vector<double>& freqs_;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "app/result_files.h"
@@ -33,10 +34,19 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
                             const DesignProgress& progress,
                             const std::function<void(const SweepUnitsRun&)>& write_files);
 
+// One stage of a curve run as this run saw it: where a curve spends its time.
+struct CurveStage {
+  std::string name;     // "frequencies", "continuations", "neighbour starts", ...
+  int units = 0;        // units of the stage
+  int computed = 0;     // of them computed by this run (the rest resumed from the journal)
+  double wall_s = 0.0;  // this run's wall time in the stage (0 when everything was resumed)
+};
+
 struct CurveUnitsRun {
   std::vector<BoundsResult> points;  // every frequency, in order, after both passes
   int computed = 0;                  // units (point passes) computed by this run
   int resumed = 0;                   // units read back from the journal of an earlier run
+  std::vector<CurveStage> stages;    // in the order run (rank 0)
   bool worker = false;               // an MPI rank other than 0
 };
 

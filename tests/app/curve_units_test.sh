@@ -50,6 +50,11 @@ u = j["units"]
 n = int(sys.argv[2])
 assert u["total"] == 2 * n and u["computed"] == 2 * n and u["resumed"] == 0, u
 assert len(j["points"]) == n and j["status_min"] == "converged", j.keys()
+# The stages in the order run, each with its units and this run's wall time.
+st = j["stages"]
+assert [(s["stage"], s["units"], s["computed"]) for s in st] == \
+    [("frequencies", n, n), ("neighbour starts", n, n)], st
+assert all(0.0 <= s["wall_s"] <= j["wall_s"] for s in st), st
 PY
 
 # Two MPI ranks: pass 1 handed out, its records broadcast, pass 2 handed out; rank 0 writes.
@@ -73,6 +78,9 @@ anchors = len(set(list(range(0, n, 4)) + [n - 1]))
 chains = 2 * sum(1 for a in range(0, n - 1, 4) if min(a + 4, n - 1) - a >= 2)
 u = json.load(open(sys.argv[1]))["units"]
 assert u["total"] == u["computed"] == anchors + chains + n, (u, anchors, chains)
+st = json.load(open(sys.argv[1]))["stages"]
+assert [(s["stage"], s["units"]) for s in st] == \
+    [("frequencies", anchors), ("continuations", chains), ("neighbour starts", n)], st
 PY
 
 # The harmonic ladder (H = 3 searched at H = 1): a refinement stage after pass 2, the same files
@@ -93,6 +101,8 @@ for name in sys.argv[1:]:
     assert u["total"] == u["computed"] == 3 * 9, u
     assert all(p["search_harmonics"] == 1 and p["refinement_fallbacks"] == 0 for p in j["points"])
     assert j["status"] == "converged", j["status"]
+    assert [s["stage"] for s in j["stages"]] == \
+        ["frequencies", "neighbour starts", "harmonic refinement"], j["stages"]
 PY
 
 # Kill at a random moment within 70 % of the serial run's time after the journal appears, then
@@ -128,6 +138,10 @@ u = json.load(open(sys.argv[1]))["units"]
 recorded = int(sys.argv[2])
 print(f"curve_units_test: killed after {recorded} of {u['total']} point passes; resumed {u['resumed']}, computed {u['computed']}")
 assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == 2 * int(sys.argv[3]), u
+# Stages count this run's work only: a resumed unit is in no stage's `computed`.
+st = json.load(open(sys.argv[1]))["stages"]
+assert sum(s["computed"] for s in st) == u["computed"], st
+assert sum(s["units"] for s in st) == u["total"], st
 PY
 compare "$tmp/ref" "$tmp/k"
 ls -a "$tmp/k" | grep -q "tmp-" && fail "temporary files left in the output folder"
