@@ -5,6 +5,7 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)"
+source scripts/test_env.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)"
 # libFuzzer smoke run of the FE readers (clang, ASan + UBSan; a few seconds per target).
 bash scripts/fuzz_smoke.sh
