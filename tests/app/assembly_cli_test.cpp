@@ -3,6 +3,8 @@
 // reduced FE cascade (implicit modal scheme) inside the bounds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -78,15 +80,18 @@ TEST(AssemblyCli, VerifyTimeIntegratesTheFeCascadeInsideTheBounds) {
   // 128 steps per period: Newmark's period error (ωdt)²/12 = 2e-4, amplified near the 1096 Hz
   // full-stick family, puts the amplitude ~0.7 % above the 256-step one (64 steps: 2.8 %, beyond
   // the 2 % margin, measured under the sanitizers).
+  // FRICROM_TEST_TIME_RUNS=1 (the sanitizer build) integrates from α = 0 only: the corner's run
+  // takes the same code path, 2.5x as long to settle.
+  const char* runs_env = std::getenv("FRICROM_TEST_TIME_RUNS");
+  const int runs = runs_env != nullptr ? std::max(1, std::atoi(runs_env)) : 2;
   const CliRun run = Stdout("verify " + Quote(cascade) +
-                            " --freq 1040 --alpha-samples 4 --time-runs 2 --time-steps 128 --json "
-                            "--quiet --out " +
-                            Quote(tmp.path().string()));
+                            " --freq 1040 --alpha-samples 4 --time-runs " + std::to_string(runs) +
+                            " --time-steps 128 --json --quiet --out " + Quote(tmp.path().string()));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const json j = json::parse(run.output);
   EXPECT_TRUE(j.at("certified").get<bool>()) << j.dump();
   const double lo = j.at("y_min").get<double>(), hi = j.at("y_max").get<double>();
-  ASSERT_EQ(j.at("time_integration").size(), 2u);
+  ASSERT_EQ(j.at("time_integration").size(), static_cast<size_t>(runs));
   for (const json& r : j.at("time_integration")) {
     EXPECT_EQ(r.at("status"), "steady-state") << r.at("message");
     EXPECT_EQ(r.at("scheme"), "implicit-modal");
