@@ -80,7 +80,7 @@ void PrintBoundsText(const Case& c, const BoundCurve& curve, const CurveUnitsRun
     for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
     std::cout << "\n";
   }
-  if (run.stages.size() > 1) {  // a curve's stages; one frequency has just the one
+  if (run.stages.size() > 1) {  // one stage (a frequency off the harmonic ladder) says nothing new
     std::cout << "  stages:";
     const char* sep = " ";
     for (const CurveStage& s : run.stages) {
