@@ -3,17 +3,15 @@
 // machine: benchmarks/README.md.
 #include <benchmark/benchmark.h>
 
-#include <numbers>
-
 #include "fricrom/condensed_system.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace {
 
 using namespace fricrom;
-constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kFreq = 1000.0;
 
 // Residual + exact Jacobian at a converged state, frequency unchanged (receptance reused).

@@ -3,17 +3,16 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
-#include <numbers>
 
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 
 namespace {
 
 using namespace fricrom;
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 const Case& Baseline() {
   static const Case c = LoadCase(std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml");

@@ -63,6 +63,11 @@ if(FRICROM_BUILD_BENCHMARKS)
 endif()
 
 set(FRICROM_WARNINGS -Wall -Wextra -Wpedantic)
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # In a unity build each .cpp is #included, so GCC takes its anonymous-namespace types for a
+  # header's and warns where a class of the file uses them; that is only a warning about headers.
+  list(APPEND FRICROM_WARNINGS -Wno-subobject-linkage)
+endif()
 find_package(Threads REQUIRED)  # reading large FE files on two threads
 # dgemm, dgetrf, dsygvd for large dense work (src/linear/dense_lapack.cpp); OpenBLAS at run time
 pkg_check_modules(BLAS QUIET IMPORTED_TARGET blas)

@@ -3,7 +3,7 @@
 # description to benchmarks/results/<date>.json and prints them. Not part of the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON > /dev/null
 cmake --build build -j"$(nproc)" --target fricrom_bench
 mkdir -p benchmarks/results
 out="benchmarks/results/$(date -u +%Y%m%dT%H%M%SZ).json"

@@ -2,18 +2,35 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 
 #include "fricrom/case_file.h"
 #include "fricrom/harmonic_balance.h"
+#include "fricrom/hbm_system.h"
 #include "fricrom/model.h"
 
 namespace fricrom::testing {
+
+// The repository's meshes/ directory (with the trailing slash).
+inline const std::string kMeshes = FRICROM_SOURCE_DIR "/meshes/";
 
 inline Case LoadBaseline(const std::vector<ParameterOverride>& overrides = {}) {
   // One string built once: GCC 12 warns (-Warray-bounds, falsely) on `+` of the literals inlined.
   static const std::string path = FRICROM_SOURCE_DIR "/meshes/lumped3/baseline.toml";
   return LoadCase(path, overrides);
+}
+
+// The baseline lumped system at H = 1 with 128 time samples, built once per test program.
+inline HbmSystem& BaselineH1() {
+  static HbmSystem sys(LoadBaseline().model, HbmOptions{1, 128});
+  return sys;
+}
+
+// A reproducible random matrix (Eigen's Random after std::srand(seed)), entries in [-1, 1].
+inline Eigen::MatrixXd SeededRandom(Eigen::Index rows, Eigen::Index cols, unsigned seed) {
+  std::srand(seed);
+  return Eigen::MatrixXd::Random(rows, cols);
 }
 
 // One mass on a spring and dashpot (x), with a Jenkins element (kt, constant normal load N0) to

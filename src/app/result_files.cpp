@@ -22,10 +22,6 @@ json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr);
 std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 std::string Status(const BoundSolution& s) { return ToString(s.status); }
 
-namespace {
-json Num(double v) { return NumberOrNull(v); }
-}  // namespace
-
 static void WriteHistories(Hdf5Writer& h5, const std::string& group, const HarmonicBalance& system,
                            const BoundSolution& s, double freq_hz) {
   if (!s.IsUsable()) return;
@@ -57,17 +53,18 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["point_wall_s"] = b.wall_s;
   j["contact_pairs"] = model.num_contact_pairs();
   j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
-  j["y_min"] = Num(b.min.amplitude);
-  j["y_max"] = Num(b.max.amplitude);
-  j["eta_min"] = Num(b.max.loss_factor);  // the maximum response has the minimum loss factor
-  j["eta_max"] = Num(b.min.loss_factor);
+  j["y_min"] = NumberOrNull(b.min.amplitude);
+  j["y_max"] = NumberOrNull(b.max.amplitude);
+  j["eta_min"] =
+      NumberOrNull(b.max.loss_factor);  // the maximum response has the minimum loss factor
+  j["eta_max"] = NumberOrNull(b.min.loss_factor);
   j["alpha_at_min"] = ToStd(b.min.alpha);
   j["alpha_at_max"] = ToStd(b.max.alpha);
   j["states_at_min"] = RegimeNames(b.min.regimes);
   j["states_at_max"] = RegimeNames(b.max.regimes);
   j["mixed_configuration_at_min"] = MixedConfiguration(model, b.min.regimes);
   j["mixed_configuration_at_max"] = MixedConfiguration(model, b.max.regimes);
-  j["R"] = Num(b.robustness());
+  j["R"] = NumberOrNull(b.robustness());
   j["status"] = b.IsUsable() ? "converged" : "min: " + Status(b.min) + ", max: " + Status(b.max);
   j["status_min"] = Status(b.min);
   j["status_max"] = Status(b.max);

@@ -11,15 +11,6 @@
 namespace fricrom {
 namespace {
 
-Eigen::MatrixXd Sub(const Eigen::MatrixXd& m, const std::vector<int>& idx) {
-  const int n = static_cast<int>(idx.size());
-  Eigen::MatrixXd s(n, n);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) s(i, j) = m(idx[i], idx[j]);
-  }
-  return s;
-}
-
 std::vector<int> AllDofs(const Model& model) {
   std::vector<int> all(model.num_dofs());
   for (int i = 0; i < model.num_dofs(); ++i) all[i] = i;
@@ -47,7 +38,8 @@ ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd
 }
 
 ModalResult FreeSystemModes(const Model& model) {
-  return ComputeModes(Sub(model.stiffness, model.free_dofs), Sub(model.mass, model.free_dofs));
+  return ComputeModes(model.stiffness(model.free_dofs, model.free_dofs),
+                      model.mass(model.free_dofs, model.free_dofs));
 }
 
 ModalResult StickSystemModes(const Model& model) {
@@ -102,8 +94,8 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
   if (response < 0) {
     throw std::invalid_argument("LinearResponseAmplitude: response DOF not in the system");
   }
-  const Eigen::MatrixXd ks = Sub(k, dofs), ms = Sub(model.mass, dofs),
-                        cs = Sub(model.damping, dofs);
+  const Eigen::MatrixXd ks = k(dofs, dofs), ms = model.mass(dofs, dofs),
+                        cs = model.damping(dofs, dofs);
   const int n = static_cast<int>(dofs.size());
   Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n);
   for (const HarmonicLoad& l : model.loads) {

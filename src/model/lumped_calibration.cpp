@@ -56,15 +56,6 @@ std::vector<BodyDofs> SplitBodies(const Case& c) {
   return bodies;
 }
 
-Eigen::MatrixXd Sub(const Eigen::MatrixXd& a, const std::vector<int>& d) {
-  const int n = static_cast<int>(d.size());
-  Eigen::MatrixXd s(n, n);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) s(i, j) = a(d[static_cast<size_t>(i)], d[static_cast<size_t>(j)]);
-  }
-  return s;
-}
-
 Eigen::VectorXd Restrict(const Eigen::VectorXd& v, const BodyDofs& b) {
   Eigen::VectorXd r(static_cast<Eigen::Index>(b.dofs.size()));
   for (size_t i = 0; i < b.dofs.size(); ++i) r[static_cast<Eigen::Index>(i)] = v[b.dofs[i]];
@@ -101,7 +92,7 @@ LumpedBlade CalibrateBlade(const Case& c, const BodyDofs& b, const LumpOptions& 
   const Model& m = c.model;
   LumpedBlade out;
   out.name = b.name;
-  const Eigen::MatrixXd k = Sub(m.stiffness, b.dofs), mass = Sub(m.mass, b.dofs);
+  const Eigen::MatrixXd k = m.stiffness(b.dofs, b.dofs), mass = m.mass(b.dofs, b.dofs);
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(k, mass);
   if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] > 0.0)) {
     Fail(c, "blade '" + b.name + "' alone has no positive-definite modes (is its root clamped?)");
@@ -152,7 +143,7 @@ LumpedBlade CalibrateBlade(const Case& c, const BodyDofs& b, const LumpOptions& 
   out.radial_mode = static_cast<int>(jr);
   out.radial_mode_hz = HzFromEigenvalue(eig.eigenvalues()[jr]);
   out.radial_mass = out.k_radial / eig.eigenvalues()[jr];
-  out.damping_ratio = phi.dot(Sub(m.damping, b.dofs) * phi) / (2.0 * omega);
+  out.damping_ratio = phi.dot(m.damping(b.dofs, b.dofs) * phi) / (2.0 * omega);
   for (const HarmonicLoad& l : m.loads) {
     const Eigen::VectorXd fc = Restrict(l.cos, b);
     const Eigen::VectorXd fs = l.harmonic > 0 ? Restrict(l.sin, b) : Eigen::VectorXd();
@@ -174,10 +165,10 @@ LumpedDamper CalibrateDamper(const Case& c, const BodyDofs& b, const LumpOptions
   const Eigen::VectorXd rr = RigidTranslation(b, o.radial);
   LumpedDamper d;
   d.name = b.name;
-  const Eigen::MatrixXd mass = Sub(m.mass, b.dofs);
+  const Eigen::MatrixXd mass = m.mass(b.dofs, b.dofs);
   d.mass = rc.dot(mass * rc);
   if (!(d.mass > 0.0)) Fail(c, "damper '" + b.name + "' has no translational mass");
-  const Eigen::MatrixXd k = Sub(m.stiffness, b.dofs);
+  const Eigen::MatrixXd k = m.stiffness(b.dofs, b.dofs);
   d.ground_stiffness = std::max(rc.dot(k * rc), rr.dot(k * rr));
   for (const HarmonicLoad& l : m.loads) {
     const Eigen::VectorXd f = Restrict(l.cos, b);

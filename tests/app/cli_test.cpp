@@ -28,7 +28,7 @@ using fricrom::testing::Stderr;
 using fricrom::testing::Stdout;
 using fricrom::testing::TempDir;
 
-const std::string kBaseline = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml";
+using fricrom::testing::kBaseline;
 
 TEST(Cli, ModesJsonMatchesTable3) {
   const CliRun r = Stdout("modes " + Quote(kBaseline) + " --json");

@@ -18,6 +18,8 @@ namespace fricrom::testing {
 namespace fs = std::filesystem;
 
 inline const std::string kCli = FRICROM_CLI;
+inline const std::string kSource = FRICROM_SOURCE_DIR;
+inline const std::string kBaseline = kSource + "/meshes/lumped3/baseline.toml";
 
 struct CliRun {
   int exit_code = -1;

@@ -22,7 +22,7 @@ using fricrom::testing::Stderr;
 using fricrom::testing::Stdout;
 using fricrom::testing::TempDir;
 
-const std::string kBaseline = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/baseline.toml";
+using fricrom::testing::kBaseline;
 
 std::string Out(const TempDir& t) { return " --out " + Quote(t.path().string()); }
 

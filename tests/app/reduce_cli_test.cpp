@@ -22,7 +22,7 @@ using fricrom::testing::Stderr;
 using fricrom::testing::Stdout;
 using fricrom::testing::TempDir;
 
-const std::string kSource = FRICROM_SOURCE_DIR;
+using fricrom::testing::kSource;
 const std::string kBlade = kSource + "/meshes/blade_sector/coarse/blade_sector.inp";
 const std::string kDamper = kSource + "/meshes/damper/coarse/damper.inp";
 const std::string kBladeSets = "CONTACT_LEFT,CONTACT_RIGHT,EXCITATION,RESPONSE";
@@ -47,9 +47,9 @@ std::vector<hsize_t> Dims(const std::string& file, const std::string& dataset) {
 TEST(ReduceCli, BladeSectorByCutoffPrintsTheIssueKeysAndWritesTheModel) {
   TempDir tmp;
   const std::string out = (tmp.path() / "blade.h5").string();
-  const CliRun r = Stdout("reduce " + Quote(kBlade) + " --boundary " + kBladeSets +
-                          " --cutoff-hz 100000 --modal-damping 0.002 --to " + Quote(out) +
-                          " --json --quiet");
+  const CliRun r =
+      Stdout("reduce " + Quote(kBlade) + " --boundary " + kBladeSets +
+             " --cutoff-hz 100000 --modal-damping 0.002 --to " + Quote(out) + " --json --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json j = json::parse(r.output);
   for (const char* key : {"full_dofs", "boundary_dofs", "modes", "max_rel_eig_error", "checks",
@@ -157,8 +157,8 @@ TEST(ReduceCli, BadArgumentsAreReportedWithExitCode2) {
     EXPECT_NE(r.output.find(c.fragment), std::string::npos) << c.args << "\n" << r.output;
   }
   EXPECT_FALSE(fs::exists(tmp.path() / "r.h5"));
-  const CliRun missing = Stderr("reduce " + Quote(kSource + "/nope/job.inp") +
-                                " --boundary A --modes 2" + to);
+  const CliRun missing =
+      Stderr("reduce " + Quote(kSource + "/nope/job.inp") + " --boundary A --modes 2" + to);
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.output.find("nope/job"), std::string::npos) << missing.output;
 }

@@ -20,7 +20,7 @@ using fricrom::testing::Stderr;
 using fricrom::testing::Stdout;
 using fricrom::testing::TempDir;
 
-const std::string kSource = FRICROM_SOURCE_DIR;
+using fricrom::testing::kSource;
 const std::string kAbaqus = kSource + "/tests/data/abaqus/";
 const std::string kChain = kSource + "/tests/data/reduce/";
 const std::string kBeam = kSource + "/tests/data/c3d20r_beam/beam.inp";

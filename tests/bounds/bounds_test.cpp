@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <numbers>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -15,17 +14,11 @@
 
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
-
-HbmSystem& Baseline() {
-  static HbmSystem sys(testing::LoadBaseline().model, HbmOptions{1, 128});
-  return sys;
-}
 
 std::string Regimes(const std::vector<ContactRegime>& regimes) {
   std::string s;
@@ -50,7 +43,7 @@ class BaselineBounds : public ::testing::TestWithParam<double> {};
 // (a) Both bounds converge, are admissible and ordered.
 TEST_P(BaselineBounds, BothBoundsConvergeAndAreOrdered) {
   const double f = GetParam();
-  const BoundsResult r = ComputeBounds(Baseline(), f, BoundsOptions{});
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), f, BoundsOptions{});
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
   EXPECT_EQ(r.min.status, BoundStatus::kConverged);
   EXPECT_EQ(r.max.status, BoundStatus::kConverged);
@@ -60,8 +53,8 @@ TEST_P(BaselineBounds, BothBoundsConvergeAndAreOrdered) {
   EXPECT_GE(r.seeds_converged, 1);
   EXPECT_GE(r.spread_min, 0.0);
   EXPECT_GE(r.spread_max, 0.0);
-  ExpectAdmissible(Baseline(), f, r.min);
-  ExpectAdmissible(Baseline(), f, r.max);
+  ExpectAdmissible(testing::BaselineH1(), f, r.min);
+  ExpectAdmissible(testing::BaselineH1(), f, r.max);
   EXPECT_GE(r.robustness(), 0.0);
   EXPECT_LE(r.robustness(), 1.0);
   std::printf("[bounds] %.0f Hz: y_min %.6e m [%s], y_max %.6e m [%s], R %.4f\n", f,
@@ -73,7 +66,7 @@ TEST_P(BaselineBounds, BothBoundsConvergeAndAreOrdered) {
 // corners of the box and seeded random points) lies within the computed bounds.
 TEST_P(BaselineBounds, SampledResponsesLieWithinTheBounds) {
   const double f = GetParam();
-  const HbmSystem& sys = Baseline();
+  const HbmSystem& sys = testing::BaselineH1();
   const BoundsResult r = ComputeBounds(sys, f, BoundsOptions{});
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
 
@@ -123,7 +116,7 @@ INSTANTIATE_TEST_SUITE_P(Frequencies, BaselineBounds, ::testing::Values(262.0, 2
 TEST(Bounds, BaselineHasAScatterNearResonance) {
   const double f = 266.0;
   const auto t0 = std::chrono::steady_clock::now();
-  const BoundsResult r = ComputeBounds(Baseline(), f, BoundsOptions{});
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), f, BoundsOptions{});
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
@@ -145,7 +138,7 @@ TEST(Bounds, ProgressCountsSeedsAndSamplesUpToTheirTotals) {
   o.progress = [&](const std::string& stage, int done, int total) {
     (stage == "seeds" ? seeds : samples).emplace_back(done, total);
   };
-  const BoundsResult r = ComputeBounds(Baseline(), 266.0, o);
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), 266.0, o);
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
   ASSERT_FALSE(seeds.empty());
   EXPECT_EQ(seeds.front(), std::make_pair(1, 5));  // after the first of the 5 default seeds
@@ -159,7 +152,7 @@ TEST(Bounds, ProgressCountsSeedsAndSamplesUpToTheirTotals) {
 // At 262 Hz every contact sticks over the whole period (type b1): α moves the static state only
 // and the dynamic response is unique.
 TEST(Bounds, FullStickResponseIsUniqueBelowResonance) {
-  const BoundsResult r = ComputeBounds(Baseline(), 262.0, BoundsOptions{});
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), 262.0, BoundsOptions{});
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
   EXPECT_NEAR(r.min.amplitude, r.max.amplitude, 1e-6 * r.max.amplitude);
   for (ContactRegime g : r.max.regimes) EXPECT_EQ(g, ContactRegime::kFullStick);
@@ -193,27 +186,27 @@ TEST(Bounds, EverythingSticksWithHugeFriction) {
 TEST(Bounds, OptimiserImprovesOnASlopedStart) {
   const double f = 266.0;
   const Eigen::VectorXd seed = Eigen::VectorXd::Constant(4, 0.5);
-  const FrfPoint start = SolveAtFrequencies(Baseline(), seed, {f}, FrfOptions{}).back();
+  const FrfPoint start = SolveAtFrequencies(testing::BaselineH1(), seed, {f}, FrfOptions{}).back();
   ASSERT_EQ(start.status, SolverStatus::kConverged);
   BoundsOptions opt;
   opt.alpha_seeds = {seed};
   opt.check_samples = 0;  // the optimiser alone
-  const BoundsResult r = ComputeBounds(Baseline(), f, opt);
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), f, opt);
   ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
   EXPECT_EQ(r.optimizer_runs, 2);
   EXPECT_LT(r.min.amplitude, start.amplitude * (1 - 1e-3)) << r.BriefReport();
   EXPECT_GT(r.max.amplitude, start.amplitude * (1 + 1e-3)) << r.BriefReport();
   EXPECT_GT(r.min.iterations, 0);
-  ExpectAdmissible(Baseline(), f, r.min);
-  ExpectAdmissible(Baseline(), f, r.max);
+  ExpectAdmissible(testing::BaselineH1(), f, r.min);
+  ExpectAdmissible(testing::BaselineH1(), f, r.max);
 }
 
 // The paper's objective (Table 1): extreme loss factors give the same response bounds here.
 TEST(Bounds, LossFactorObjectiveFindsTheSameBounds) {
   BoundsOptions opt;
-  const BoundsResult amp = ComputeBounds(Baseline(), 266.0, opt);
+  const BoundsResult amp = ComputeBounds(testing::BaselineH1(), 266.0, opt);
   opt.objective = BoundsOptions::kLossFactor;
-  const BoundsResult eta = ComputeBounds(Baseline(), 266.0, opt);
+  const BoundsResult eta = ComputeBounds(testing::BaselineH1(), 266.0, opt);
   ASSERT_TRUE(amp.IsUsable()) << amp.BriefReport();
   ASSERT_TRUE(eta.IsUsable()) << eta.BriefReport();
   EXPECT_NEAR(eta.min.amplitude, amp.min.amplitude, 1e-6 * amp.max.amplitude);
@@ -226,7 +219,7 @@ TEST(Bounds, FailedRunsAreCountedNotUsed) {
   BoundsOptions opt;
   opt.max_iterations = 1;  // nothing that needs the optimiser can converge
   opt.alpha_seeds = {Eigen::VectorXd::Constant(4, 0.5)};
-  const BoundsResult r = ComputeBounds(Baseline(), 266.0, opt);
+  const BoundsResult r = ComputeBounds(testing::BaselineH1(), 266.0, opt);
   EXPECT_EQ(r.min_failures + r.max_failures, 2);
   EXPECT_EQ(r.seeds_converged, 0);
   EXPECT_FALSE(r.IsUsable());
@@ -239,7 +232,7 @@ TEST(Bounds, FailedRunsAreCountedNotUsed) {
 // 5-6 % of y_max at two frequencies to such runs). Alone it is no bound.
 TEST(Bounds, UnfinishedRunsWidenAConvergedBound) {
   const double f = 266.0;
-  const HbmSystem& sys = Baseline();
+  const HbmSystem& sys = testing::BaselineH1();
   const std::vector<Eigen::VectorXd> seeds = DefaultAlphaSeeds(4);
   const Eigen::VectorXd& kkt_start = seeds[3];   // both runs start at a KKT point: converged
   const Eigen::VectorXd& needs_runs = seeds[1];  // needs more than one iteration
@@ -281,8 +274,8 @@ TEST(Bounds, NonmonotoneAndMonotoneSearchesAgreeOnTheLumpedBenchmark) {
     BoundsOptions monotone, nonmonotone;
     monotone.line_search_memory = 1;
     nonmonotone.line_search_memory = 10;
-    const BoundsResult a = ComputeBounds(Baseline(), f, monotone);
-    const BoundsResult b = ComputeBounds(Baseline(), f, nonmonotone);
+    const BoundsResult a = ComputeBounds(testing::BaselineH1(), f, monotone);
+    const BoundsResult b = ComputeBounds(testing::BaselineH1(), f, nonmonotone);
     ASSERT_TRUE(a.IsUsable() && b.IsUsable()) << a.BriefReport() << b.BriefReport();
     EXPECT_NEAR(b.min.amplitude, a.min.amplitude, 1e-6 * a.max.amplitude) << f;
     EXPECT_NEAR(b.max.amplitude, a.max.amplitude, 1e-6 * a.max.amplitude) << f;
@@ -302,8 +295,8 @@ TEST(Bounds, NonmonotoneRunsEndOnTheirBestIterate) {
   double previous = 0.0;
   for (int iterations = 1; iterations <= 40; ++iterations) {
     o.max_iterations = iterations;
-    const BoundsResult r = ComputeBounds(Baseline(), 269.0, o);
-    const double y = Baseline().Amplitude(r.max.x);
+    const BoundsResult r = ComputeBounds(testing::BaselineH1(), 269.0, o);
+    const double y = testing::BaselineH1().Amplitude(r.max.x);
     ASSERT_TRUE(std::isfinite(y)) << iterations;
     EXPECT_GE(y, previous * (1 - 1e-12)) << iterations << " iterations";
     previous = y;
@@ -318,14 +311,14 @@ TEST(Bounds, MinimumStopEndsMinimisingRunsAtTheStop) {
   BoundsOptions o;
   o.check_samples = 0;
   o.alpha_seeds = {Eigen::Vector4d(-0.7, 0.2, 0.6, -0.1)};
-  const BoundsResult full = ComputeBounds(Baseline(), 268.0, o);
+  const BoundsResult full = ComputeBounds(testing::BaselineH1(), 268.0, o);
   ASSERT_TRUE(full.IsUsable()) << full.BriefReport();
   ASSERT_TRUE(full.min.stationary);
   ASSERT_EQ(full.min.iterations, 2) << full.min.message;
   o.minimum_stop_m = 10.0 * full.max.amplitude;
-  const BoundsResult stopped = ComputeBounds(Baseline(), 268.0, o);
+  const BoundsResult stopped = ComputeBounds(testing::BaselineH1(), 268.0, o);
   ASSERT_TRUE(stopped.IsUsable()) << stopped.BriefReport();
-  ExpectAdmissible(Baseline(), 268.0, stopped.min);
+  ExpectAdmissible(testing::BaselineH1(), 268.0, stopped.min);
   EXPECT_EQ(stopped.min.iterations, 1);
   EXPECT_GT(stopped.min.amplitude, full.min.amplitude * (1 + 1e-9));
   EXPECT_FALSE(stopped.min.stationary);
@@ -390,14 +383,15 @@ TEST(Bounds, OptionsValidation) {
 
   o = BoundsOptions{};
   o.max_iterations = -3;
-  EXPECT_THROW(ComputeBounds(Baseline(), 266.0, o), std::invalid_argument);
-  EXPECT_THROW(ComputeBounds(Baseline(), 0.0, BoundsOptions{}), std::invalid_argument);
-  EXPECT_THROW(ComputeBounds(Baseline(), -5.0, BoundsOptions{}), std::invalid_argument);
-  EXPECT_THROW(ComputeBounds(Baseline(), std::numeric_limits<double>::quiet_NaN(), BoundsOptions{}),
+  EXPECT_THROW(ComputeBounds(testing::BaselineH1(), 266.0, o), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(testing::BaselineH1(), 0.0, BoundsOptions{}), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(testing::BaselineH1(), -5.0, BoundsOptions{}), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(testing::BaselineH1(), std::numeric_limits<double>::quiet_NaN(),
+                             BoundsOptions{}),
                std::invalid_argument);
   o = BoundsOptions{};
   o.alpha_seeds = {Eigen::Vector3d::Zero()};  // the baseline has 4 contacts
-  EXPECT_THROW(ComputeBounds(Baseline(), 266.0, o), std::invalid_argument);
+  EXPECT_THROW(ComputeBounds(testing::BaselineH1(), 266.0, o), std::invalid_argument);
 }
 
 // Seeds grow with the interfaces and the requested random count, never as 2^nα.
@@ -444,10 +438,10 @@ TEST(Bounds, SeedGroupsAndRandomSeedsAreAddedAndCounted) {
 TEST(Bounds, ExtraSeedsAreTriedAndReported) {
   BoundsOptions o;
   o.check_samples = 0;
-  const BoundsResult plain = ComputeBounds(Baseline(), 266.0, o);
+  const BoundsResult plain = ComputeBounds(testing::BaselineH1(), 266.0, o);
   o.seed_groups = {0, 1, 2, 3};
   o.random_seeds = 3;
-  const BoundsResult more = ComputeBounds(Baseline(), 266.0, o);
+  const BoundsResult more = ComputeBounds(testing::BaselineH1(), 266.0, o);
   EXPECT_EQ(more.seed_counts.base, 5);
   EXPECT_EQ(more.seed_counts.group_patterns, 8);
   EXPECT_EQ(more.seed_counts.random, 3);
@@ -551,7 +545,7 @@ TEST(Bounds, FailedBoundsAreNaN) {
   o.max_iterations = 1;
   o.method = BoundsOptions::kFullSpace;
   o.alpha_seeds = {Eigen::VectorXd::Constant(4, 0.5)};  // not a KKT point: needs iterations
-  const BoundsResult f = ComputeBounds(Baseline(), 266.0, o);
+  const BoundsResult f = ComputeBounds(testing::BaselineH1(), 266.0, o);
   ASSERT_FALSE(f.IsUsable()) << f.BriefReport();
   for (const BoundSolution* s : {&f.min, &f.max}) {
     if (s->IsUsable()) continue;

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -14,12 +13,11 @@
 
 #include "fricrom/bounds.h"
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 HbmSystem& BaselineAt(int harmonics) {
   static HbmSystem h1(testing::LoadBaseline().model, HbmOptions{1, 128});

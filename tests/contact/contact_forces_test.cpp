@@ -12,7 +12,7 @@
 namespace fricrom {
 namespace {
 
-const ContactLawParams kParams{3e5, 2e5, 0.5, 2.0};  // kn, kt [N/m], μ, preload [N]
+const ContactLawParams kPreloaded{3e5, 2e5, 0.5, 2.0};  // kn, kt [N/m], μ, preload [N]
 
 // Stick-slip with lift-off over part of the period: every branch of the law is visited.
 void Motion(int harmonics, Eigen::VectorXd* uh, Eigen::VectorXd* vh) {
@@ -47,7 +47,7 @@ void NaiveAft(const Eigen::VectorXd& uh, const Eigen::VectorXd& vh, double alpha
     }
   }
   ContactLawResult law;
-  EvaluateContactLaw(kParams, u, v, alpha, false, &law);
+  EvaluateContactLaw(kPreloaded, u, v, alpha, false, &law);
   *t = Eigen::VectorXd::Zero(nh);
   *n = Eigen::VectorXd::Zero(nh);
   for (int k = 0; k < samples; ++k) {
@@ -72,7 +72,7 @@ TEST_P(AftRoutes, CoefficientsAreTheFourierSumsOfTheLawsSamples) {
     Eigen::VectorXd uh, vh, t, n;
     Motion(harmonics, &uh, &vh);
     ContactForceBlocks out;
-    aft.Evaluate(kParams, uh, vh, 0.3, AftDerivatives{}, &out);
+    aft.Evaluate(kPreloaded, uh, vh, 0.3, AftDerivatives{}, &out);
     NaiveAft(uh, vh, 0.3, samples, &t, &n);
     ASSERT_EQ(ClassifyRegime(out.law.states), ContactRegime::kStickSlipLiftOff);
     EXPECT_LT((out.t - t).norm(), 1e-12 * t.norm()) << samples;
@@ -87,7 +87,7 @@ TEST_P(AftRoutes, DerivativesMatchCentralDifferences) {
   Motion(harmonics, &uh, &vh);
   const double alpha = 0.3;
   ContactForceBlocks d;
-  aft.Evaluate(kParams, uh, vh, alpha, AftDerivatives{true, true}, &d);
+  aft.Evaluate(kPreloaded, uh, vh, alpha, AftDerivatives{true, true}, &d);
   // Piecewise linear in the coefficients: a step small enough not to switch a sample's state
   // gives the derivative to round-off.
   const double step = 1e-13;
@@ -96,27 +96,27 @@ TEST_P(AftRoutes, DerivativesMatchCentralDifferences) {
     Eigen::VectorXd up = uh, um = uh, vp = vh, vm = vh;
     up[l] += step;
     um[l] -= step;
-    aft.Evaluate(kParams, up, vh, alpha, AftDerivatives{}, &p);
-    aft.Evaluate(kParams, um, vh, alpha, AftDerivatives{}, &m);
-    EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_du.col(l)).norm(), 1e-3 * kParams.kt) << l;
+    aft.Evaluate(kPreloaded, up, vh, alpha, AftDerivatives{}, &p);
+    aft.Evaluate(kPreloaded, um, vh, alpha, AftDerivatives{}, &m);
+    EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_du.col(l)).norm(), 1e-3 * kPreloaded.kt) << l;
     vp[l] += step;
     vm[l] -= step;
-    aft.Evaluate(kParams, uh, vp, alpha, AftDerivatives{}, &p);
-    aft.Evaluate(kParams, uh, vm, alpha, AftDerivatives{}, &m);
-    EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_dv.col(l)).norm(), 1e-3 * kParams.kn) << l;
-    EXPECT_LT(((p.n - m.n) / (2 * step) - d.dn_dv.col(l)).norm(), 1e-3 * kParams.kn) << l;
+    aft.Evaluate(kPreloaded, uh, vp, alpha, AftDerivatives{}, &p);
+    aft.Evaluate(kPreloaded, uh, vm, alpha, AftDerivatives{}, &m);
+    EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_dv.col(l)).norm(), 1e-3 * kPreloaded.kn) << l;
+    EXPECT_LT(((p.n - m.n) / (2 * step) - d.dn_dv.col(l)).norm(), 1e-3 * kPreloaded.kn) << l;
   }
-  EXPECT_GT(d.dt_du.norm(), 0.1 * kParams.kt);  // not a trivially zero block
+  EXPECT_GT(d.dt_du.norm(), 0.1 * kPreloaded.kt);  // not a trivially zero block
   // ∂T̂/∂α: zero here (every sample after a slip or a lift-off forgets α); on a motion 100x
   // smaller the contact sticks all period and α sets the mean μ N(0) α.
   for (const double scale : {1.0, 0.01}) {
     const Eigen::VectorXd us = scale * uh, vs = scale * vh;
-    aft.Evaluate(kParams, us, vs, alpha, AftDerivatives{false, true}, &d);
-    aft.Evaluate(kParams, us, vs, alpha + 1e-7, AftDerivatives{}, &p);
-    aft.Evaluate(kParams, us, vs, alpha - 1e-7, AftDerivatives{}, &m);
+    aft.Evaluate(kPreloaded, us, vs, alpha, AftDerivatives{false, true}, &d);
+    aft.Evaluate(kPreloaded, us, vs, alpha + 1e-7, AftDerivatives{}, &p);
+    aft.Evaluate(kPreloaded, us, vs, alpha - 1e-7, AftDerivatives{}, &m);
     EXPECT_LT(((p.t - m.t) / 2e-7 - d.dt_dalpha).norm(), 1e-6 * (1.0 + d.dt_dalpha.norm()));
     if (scale < 1.0) {
-      EXPECT_GT(std::abs(d.dt_dalpha[0]), 0.1 * kParams.mu * kParams.normal_preload);
+      EXPECT_GT(std::abs(d.dt_dalpha[0]), 0.1 * kPreloaded.mu * kPreloaded.normal_preload);
     }
   }
 }
@@ -133,8 +133,8 @@ TEST(AftRoutes, DirectAndFftwAgree) {
   uh8.head(15) = uh7;
   vh8.head(15) = vh7;
   ContactForceBlocks a, b;
-  direct.Evaluate(kParams, uh7, vh7, -0.4, AftDerivatives{true, true}, &a);
-  fftw.Evaluate(kParams, uh8, vh8, -0.4, AftDerivatives{true, true}, &b);
+  direct.Evaluate(kPreloaded, uh7, vh7, -0.4, AftDerivatives{true, true}, &a);
+  fftw.Evaluate(kPreloaded, uh8, vh8, -0.4, AftDerivatives{true, true}, &b);
   EXPECT_LT((a.t - b.t.head(15)).norm(), 1e-12 * a.t.norm());
   EXPECT_LT((a.n - b.n.head(15)).norm(), 1e-12 * a.n.norm());
   EXPECT_LT((a.dt_du - b.dt_du.topLeftCorner(15, 15)).norm(), 1e-12 * a.dt_du.norm());

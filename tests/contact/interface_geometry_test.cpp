@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/io_test_util.h"
+#include "test_models.h"
 
 namespace fricrom {
 namespace {
@@ -219,7 +220,7 @@ TEST(InterfaceGeometry, UnsupportedElementTypeInSetIsNamed) {
 
 // ---- The committed coarse meshes -------------------------------------------------------------
 
-const std::string kMeshes = std::string(FRICROM_SOURCE_DIR) + "/meshes/";
+using testing::kMeshes;
 
 const FeModel& Blade() {
   static const FeModel m = [] {

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -15,6 +14,7 @@
 #include "fricrom/bounds.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
@@ -38,8 +38,6 @@ void SplitIntoTwoTangentialDirections(Model* model) {
   }
   model->contacts = split;
 }
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct Pair {
   Model model;

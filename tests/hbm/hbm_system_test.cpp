@@ -3,18 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <set>
 
 #include "fricrom/frf.h"
 #include "fricrom/linear.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 std::vector<std::vector<ContactState>> States(const HbmSystem& sys, const Eigen::VectorXd& x,
                                               double w, const Eigen::VectorXd& alpha) {

@@ -22,10 +22,9 @@ using fricrom::FeModel;
 using fricrom::FeReadError;
 using fricrom::testing::ExpectError;
 
-const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/abaqus/";
+const std::string kAbaqusData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/abaqus/";
 
 using TempDir = fricrom::testing::ScratchDir;
-
 
 // model.inp: one B33 element, nodes (0,0,0) and (3,0,0); *BEAM GENERAL SECTION
 // A = 0.25, I11 = 1.5e-4, I12 = 0, I22 = 1.5e-4, J = 3e-4; E = 100e6, G = 80e6; density 100.
@@ -81,7 +80,7 @@ Eigen::MatrixXd Sub(const Eigen::MatrixXd& a, const std::vector<int>& r,
 }
 
 TEST(AbaqusReader, B33StiffnessMatchesHandComputedBeam) {
-  const FeModel model = fricrom::ReadAbaqusMatrix(kData + "model_STIF1.mtx");
+  const FeModel model = fricrom::ReadAbaqusMatrix(kAbaqusData + "model_STIF1.mtx");
   EXPECT_EQ(model.format, "abaqus");
   ASSERT_EQ(model.matrices.size(), 1u);
   const FeMatrix& k = model.matrices[0];
@@ -120,8 +119,8 @@ TEST(AbaqusReader, B33StiffnessMatchesHandComputedBeam) {
 
 // Rigid-body motions (internal DOFs at rest): no force, and the mass they carry is the beam's.
 TEST(AbaqusReader, B33MassCarriesTheBeamMass) {
-  const FeMatrix k = fricrom::ReadAbaqusMatrix(kData + "model_STIF1.mtx").matrices.at(0);
-  const FeMatrix m = fricrom::ReadFe(kData + "model_MASS1.mtx").matrices.at(0);
+  const FeMatrix k = fricrom::ReadAbaqusMatrix(kAbaqusData + "model_STIF1.mtx").matrices.at(0);
+  const FeMatrix m = fricrom::ReadFe(kAbaqusData + "model_MASS1.mtx").matrices.at(0);
   ASSERT_EQ(m.row_dofs, k.row_dofs);
   EXPECT_TRUE(m.symmetric);
   std::vector<int> nodal, internal;

@@ -27,10 +27,9 @@ using fricrom::FeModel;
 using fricrom::FeReadError;
 using fricrom::testing::ExpectError;
 
-const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/mtx/";
+const std::string kMtxData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/mtx/";
 
 using TempDir = fricrom::testing::ScratchDir;
-
 
 std::string Slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -195,7 +194,8 @@ TEST(MatrixMarket, AtomicWriteReplacesAndLeavesNoTemporary) {
 }
 
 TEST(MatrixMarket, HandWrittenFixture) {
-  const FeModel model = fricrom::ReadMatrixMarket(kData + "spring3.mtx", kData + "spring3.dof.csv");
+  const FeModel model =
+      fricrom::ReadMatrixMarket(kMtxData + "spring3.mtx", kMtxData + "spring3.dof.csv");
   const FeMatrix& k = model.matrices.at(0);
   EXPECT_EQ(k.name, "spring3");
   EXPECT_TRUE(k.symmetric);
@@ -205,7 +205,7 @@ TEST(MatrixMarket, HandWrittenFixture) {
   EXPECT_EQ(kd, expected * 1000.0);
   EXPECT_EQ(k.row_dofs, (std::vector<DofId>{{1, 1}, {2, 1}, {3, 1}}));
   // integer field, general
-  const FeMatrix i = fricrom::ReadMatrixMarket(kData + "incidence.mtx").matrices.at(0);
+  const FeMatrix i = fricrom::ReadMatrixMarket(kMtxData + "incidence.mtx").matrices.at(0);
   EXPECT_EQ(i.rows, 2);
   EXPECT_EQ(i.cols, 3);
   EXPECT_EQ(i.real.coeff(1, 2), -1.0);

@@ -28,7 +28,7 @@ using fricrom::FeModel;
 using fricrom::FeReadError;
 using fricrom::testing::ExpectError;
 
-const std::string kData = std::string(FRICROM_SOURCE_DIR) + "/tests/data/";
+const std::string kFixtures = std::string(FRICROM_SOURCE_DIR) + "/tests/data/";
 
 using TempDir = fricrom::testing::ScratchDir;
 
@@ -52,7 +52,6 @@ double At(const FeMatrix& m, DofId row, DofId col) {
   EXPECT_GE(c, 0) << m.name << " has no column " << col.node << "." << col.component;
   return (r < 0 || c < 0) ? std::nan("") : At(m, r, c);
 }
-
 
 // ---- The real DMIG punch (pyNastran sample): IFO 6 and 9, large field, D exponents ------------
 
@@ -97,7 +96,7 @@ std::vector<TextEntry> ReadDmigByColumns(const std::string& path, std::map<std::
 }
 
 TEST(NastranPunch, DmigSampleMatchesItsTextEntryByEntry) {
-  const std::string path = kData + "dmig/dmig.pch";
+  const std::string path = kFixtures + "dmig/dmig.pch";
   const FeModel model = fricrom::ReadNastranPunch(path);
   EXPECT_EQ(model.format, "dmig");
   std::map<std::string, int> ifo;
@@ -125,7 +124,7 @@ TEST(NastranPunch, DmigSampleMatchesItsTextEntryByEntry) {
 }
 
 TEST(NastranPunch, DmigSampleShapesDofOrderAndKnownTerms) {
-  const FeModel model = fricrom::ReadNastranPunch(kData + "dmig/dmig.pch");
+  const FeModel model = fricrom::ReadNastranPunch(kFixtures + "dmig/dmig.pch");
   const FeMatrix* k = model.Find("kaax");  // case-insensitive
   ASSERT_NE(k, nullptr);
   EXPECT_EQ(model.Find("KaaX"), k);
@@ -194,7 +193,7 @@ std::vector<DofId> InboardExtrnOrder() {
 }
 
 TEST(NastranPunch, ExtseoutPunchGivesExtrnOrderGridsAndSystems) {
-  const FeModel model = fricrom::ReadNastranPunch(kData + "extseout/inboard.pch");
+  const FeModel model = fricrom::ReadNastranPunch(kFixtures + "extseout/inboard.pch");
   // The punch carries no DMIG (MATOP4 sent the matrices to inboard.op4): only the EXTRN order.
   EXPECT_TRUE(model.matrices.empty());
   EXPECT_EQ(model.external_dofs.size(), 32u);
@@ -224,8 +223,8 @@ TEST(NastranPunch, ExtseoutPunchGivesExtrnOrderGridsAndSystems) {
 // order names their rows. Craig-Bampton structure: identity modal mass, diagonal modal
 // stiffness, no boundary-modal stiffness coupling.
 TEST(NastranPunch, ExtseoutMatricesFollowTheExtrnOrder) {
-  const FeModel punch = fricrom::ReadNastranPunch(kData + "extseout/inboard.pch");
-  const FeModel op4 = fricrom::ReadOp4(kData + "extseout/inboard.op4");
+  const FeModel punch = fricrom::ReadNastranPunch(kFixtures + "extseout/inboard.pch");
+  const FeModel op4 = fricrom::ReadOp4(kFixtures + "extseout/inboard.op4");
   const std::vector<DofId>& order = punch.external_dofs;
   const FeMatrix* k = op4.Find("KXX");
   const FeMatrix* m = op4.Find("MXX");
@@ -248,7 +247,7 @@ TEST(NastranPunch, ExtseoutMatricesFollowTheExtrnOrder) {
 // ---- Hand-made decks ------------------------------------------------------------------------
 
 TEST(NastranPunch, SmallLargeAndFreeFieldDeck) {
-  const FeModel model = fricrom::ReadFe(kData + "dmig/mixed_fields.bdf");
+  const FeModel model = fricrom::ReadFe(kFixtures + "dmig/mixed_fields.bdf");
   EXPECT_EQ(model.format, "dmig");
   ASSERT_EQ(model.matrices.size(), 4u);  // KSQ PRECT ZSYM KLG (not the one after ENDDATA)
 
@@ -295,7 +294,7 @@ TEST(NastranPunch, SmallLargeAndFreeFieldDeck) {
 }
 
 TEST(NastranPunch, ExtrnOrderIsTheOrderOfSuperelementMatrices) {
-  const FeModel model = fricrom::ReadNastranPunch(kData + "dmig/extrn_kaax.pch");
+  const FeModel model = fricrom::ReadNastranPunch(kFixtures + "dmig/extrn_kaax.pch");
   const FeMatrix& k = *model.Find("KAAX");
   const std::vector<DofId> order = {{20, 1}, {20, 2}, {20, 3}, {10, 1}, {900, 0}};
   EXPECT_EQ(k.row_dofs, order);  // EXTRN order, including DOF 20.2 that has no term
@@ -311,9 +310,9 @@ TEST(NastranPunch, ExtrnOrderIsTheOrderOfSuperelementMatrices) {
 
 TEST(NastranPunch, ReadFeDispatch) {
   TempDir dir;
-  EXPECT_EQ(fricrom::ReadFe(kData + "dmig/dmig.pch").matrices.size(), 6u);
+  EXPECT_EQ(fricrom::ReadFe(kFixtures + "dmig/dmig.pch").matrices.size(), 6u);
   // A .dat deck without DMIG is not a matrix file.
-  ExpectError([&] { fricrom::ReadFe(kData + "extseout/inboard.dat"); }, "inboard.dat", 0,
+  ExpectError([&] { fricrom::ReadFe(kFixtures + "extseout/inboard.dat"); }, "inboard.dat", 0,
               "no DMIG");
   const std::string bdf = dir.Write("k.bdf", "DMIG,K,0,6,2\nDMIG,K,1,1,,1,1,2.\n");
   EXPECT_EQ(fricrom::ReadFe(bdf).Find("K")->real.coeff(0, 0), 2.0);

@@ -10,20 +10,18 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "test_models.h"
+
 namespace fricrom::dense {
 namespace {
-
-Eigen::MatrixXd Random(Eigen::Index r, Eigen::Index c, unsigned seed) {
-  std::srand(seed);
-  return Eigen::MatrixXd::Random(r, c);
-}
 
 class DenseLapackSizes : public ::testing::TestWithParam<int> {};
 
 TEST_P(DenseLapackSizes, LuSolvesAndTransposedSolves) {
   const int n = GetParam();
-  const Eigen::MatrixXd a = Random(n, n, 3) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
-  const Eigen::MatrixXd b = Random(n, 3, 4);
+  const Eigen::MatrixXd a =
+      testing::SeededRandom(n, n, 3) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd b = testing::SeededRandom(n, 3, 4);
   const Lu lu(a);
   EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
   EXPECT_LT((a.transpose() * lu.Solve(b, true) - b).norm(), 1e-12 * b.norm() * a.norm());
@@ -41,10 +39,10 @@ TEST_P(DenseLapackSizes, LuSolvesAndTransposedSolves) {
 // in both precisions.
 TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
   const int n = GetParam();
-  Eigen::MatrixXd a = Random(n, n, 3) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  Eigen::MatrixXd a = testing::SeededRandom(n, n, 3) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
   a.col(2).setZero();
   a(2, 2) = 4.0;  // a unit column
-  const Eigen::MatrixXd b = Random(n, 2, 4);
+  const Eigen::MatrixXd b = testing::SeededRandom(n, 2, 4);
   for (const bool transposed : {false, true}) {
     Lu lu;
     if (transposed) {
@@ -75,8 +73,8 @@ TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
 
 TEST_P(DenseLapackSizes, WeightedGramMatchesTheGeneralProduct) {
   const int n = GetParam();
-  const Eigen::MatrixXd w = Random(n, n + 9, 12);
-  Eigen::VectorXd d = Random(n + 9, 1, 13);
+  const Eigen::MatrixXd w = testing::SeededRandom(n, n + 9, 12);
+  Eigen::VectorXd d = testing::SeededRandom(n + 9, 1, 13);
   d[3] = 0.0;  // zero weights drop out
   const Eigen::MatrixXd ref = w * d.asDiagonal() * w.transpose();
   const Eigen::MatrixXd g = WeightedGram(w, d);
@@ -90,8 +88,9 @@ TEST_P(DenseLapackSizes, WeightedGramMatchesTheGeneralProduct) {
 
 TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
   const int n = GetParam();
-  const Eigen::MatrixXd a = Random(n, n + 5, 8);
-  const Eigen::VectorXd x = Random(n + 5, 1, 9), xt = Random(n, 1, 10);
+  const Eigen::MatrixXd a = testing::SeededRandom(n, n + 5, 8);
+  const Eigen::VectorXd x = testing::SeededRandom(n + 5, 1, 9),
+                        xt = testing::SeededRandom(n, 1, 10);
   Eigen::VectorXd y;
   MatVec(a, false, x, &y);
   EXPECT_LT((y - a * x).norm(), 1e-13 * (a * x).norm());
@@ -99,7 +98,7 @@ TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
   EXPECT_LT((y - a.transpose() * xt).norm(), 1e-13 * (a.transpose() * xt).norm());
   Eigen::MatrixXcd c(n, n + 5);
   c.real() = a;
-  c.imag() = Random(n, n + 5, 11);
+  c.imag() = testing::SeededRandom(n, n + 5, 11);
   const Eigen::VectorXcd z = x.cast<std::complex<double>>() * std::complex<double>(0.3, -1.0);
   const Eigen::VectorXcd zt = xt.cast<std::complex<double>>() * std::complex<double>(2.0, 0.5);
   Eigen::VectorXcd w;
@@ -112,14 +111,15 @@ TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
 
 TEST_P(DenseLapackSizes, SingularMatrixHasZeroOrTinyRcond) {
   const int n = GetParam();
-  Eigen::MatrixXd a = Random(n, n, 5);
+  Eigen::MatrixXd a = testing::SeededRandom(n, n, 5);
   a.col(n - 1) = a.col(0);  // rank deficient
   EXPECT_LT(Lu(a).rcond(), 1e-14);
 }
 
 TEST_P(DenseLapackSizes, ProductMatchesEigenForEveryTransposition) {
   const int n = GetParam();
-  const Eigen::MatrixXd a = Random(n, n + 7, 6), b = Random(n + 7, n, 7);
+  const Eigen::MatrixXd a = testing::SeededRandom(n, n + 7, 6),
+                        b = testing::SeededRandom(n + 7, n, 7);
   const Eigen::MatrixXd at = a.transpose(), bt = b.transpose();
   const Eigen::MatrixXd ref = a * b;
   EXPECT_LT((Product(a, false, b, false) - ref).norm(), 1e-13 * ref.norm());
@@ -131,7 +131,7 @@ TEST_P(DenseLapackSizes, ProductMatchesEigenForEveryTransposition) {
 
 TEST_P(DenseLapackSizes, GeneralizedEigenIsMOrthonormalAndMatchesEigen) {
   const int n = GetParam();
-  const Eigen::MatrixXd r = Random(n, n, 8), q = Random(n, n, 9);
+  const Eigen::MatrixXd r = testing::SeededRandom(n, n, 8), q = testing::SeededRandom(n, n, 9);
   const Eigen::MatrixXd k = r * r.transpose() + n * Eigen::MatrixXd::Identity(n, n);
   const Eigen::MatrixXd m = 1e-3 * (q * q.transpose() + n * Eigen::MatrixXd::Identity(n, n));
   Eigen::VectorXd lambda;

@@ -7,21 +7,20 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "test_models.h"
+
 namespace fricrom::dense {
 namespace {
 
-Eigen::MatrixXd Random(Eigen::Index r, Eigen::Index c, unsigned seed) {
-  std::srand(seed);
-  return Eigen::MatrixXd::Random(r, c);
-}
-
 // A well-conditioned matrix on the LAPACK route (n ≥ kLapackMinSize).
-Eigen::MatrixXd Base(int n) { return Random(n, n, 11) + 0.5 * n * Eigen::MatrixXd::Identity(n, n); }
+Eigen::MatrixXd Base(int n) {
+  return testing::SeededRandom(n, n, 11) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+}
 
 TEST(Gmres, ExactPreconditionerNeedsOneProduct) {
   const int n = 150;
   const Eigen::MatrixXd a = Base(n);
-  const Eigen::VectorXd b = Random(n, 1, 12);
+  const Eigen::VectorXd b = testing::SeededRandom(n, 1, 12);
   Eigen::VectorXd x;
   const GmresResult g = PreconditionedGmres(a, false, Lu(a), false, b, 1e-12, 10, &x);
   EXPECT_TRUE(g.converged);
@@ -33,8 +32,9 @@ TEST(Gmres, ExactPreconditionerNeedsOneProduct) {
 TEST(Gmres, LowRankChangeConvergesWithinRankPlusOneProducts) {
   const int n = 200, k = 6;
   const Eigen::MatrixXd m = Base(n);
-  const Eigen::MatrixXd a = m + 3.0 * Random(n, k, 13) * Random(k, n, 14);
-  const Eigen::VectorXd b = Random(n, 1, 15);
+  const Eigen::MatrixXd a =
+      m + 3.0 * testing::SeededRandom(n, k, 13) * testing::SeededRandom(k, n, 14);
+  const Eigen::VectorXd b = testing::SeededRandom(n, 1, 15);
   Eigen::VectorXd x;
   const GmresResult g = PreconditionedGmres(a, false, Lu(m), false, b, 1e-10, 50, &x);
   EXPECT_TRUE(g.converged);
@@ -46,8 +46,8 @@ TEST(Gmres, LowRankChangeConvergesWithinRankPlusOneProducts) {
 TEST(Gmres, TransposedOperatorAndPreconditioner) {
   const int n = 120, k = 3;
   const Eigen::MatrixXd m = Base(n);
-  const Eigen::MatrixXd a = m + Random(n, k, 16) * Random(k, n, 17);
-  const Eigen::VectorXd b = Random(n, 1, 18);
+  const Eigen::MatrixXd a = m + testing::SeededRandom(n, k, 16) * testing::SeededRandom(k, n, 17);
+  const Eigen::VectorXd b = testing::SeededRandom(n, 1, 18);
   Lu mt;
   mt.ComputeTransposed(m);  // factorises mᵀ: Solve(·, false) applies m⁻ᵀ, Solve(·, true) m⁻¹
   Eigen::VectorXd x;
@@ -66,8 +66,8 @@ TEST(Gmres, TransposedOperatorAndPreconditioner) {
 TEST(Gmres, ReportsFailureWhenTheProductsRunOut) {
   const int n = 150;
   const Eigen::MatrixXd m = Base(n);
-  const Eigen::MatrixXd a = m + 5.0 * Random(n, n, 19);  // a full-rank change
-  const Eigen::VectorXd b = Random(n, 1, 20);
+  const Eigen::MatrixXd a = m + 5.0 * testing::SeededRandom(n, n, 19);  // a full-rank change
+  const Eigen::VectorXd b = testing::SeededRandom(n, 1, 20);
   Eigen::VectorXd x;
   const GmresResult g = PreconditionedGmres(a, false, Lu(m), false, b, 1e-12, 3, &x);
   EXPECT_FALSE(g.converged);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli_test_util.h"
 #include "fricrom/balance.h"
 #include "fricrom/bounds.h"
 #include "fricrom/case_file.h"
@@ -21,13 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 const std::string kAsFe = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/as_fe/case.toml";
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 TEST(Assembly, LumpedCaseAsFeDataGivesTheLumpedResults) {
   const Case lumped = testing::LoadBaseline();
@@ -61,7 +55,7 @@ TEST(Assembly, CommittedAsFeFilesAreTheExport) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(tmp)) {
     const fs::path name = e.path().filename();
-    std::string want = Read(ref / name), got = Read(e.path());
+    std::string want = testing::ReadFile(ref / name), got = testing::ReadFile(e.path());
     if (name == "case.toml") {  // the first line names the source path
       want = want.substr(want.find('\n'));
       got = got.substr(got.find('\n'));
@@ -79,7 +73,7 @@ class BadAssembly : public ::testing::Test {
     dir_ = fs::temp_directory_path() / ("fricrom-bad-assembly-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::copy(fs::path(kAsFe).parent_path(), dir_);
-    text_ = Read(dir_ / "case.toml");
+    text_ = testing::ReadFile(dir_ / "case.toml");
   }
   void TearDown() override { fs::remove_all(dir_); }
   // Replaces `from` by `to` in the case, loads it, and returns the error message.

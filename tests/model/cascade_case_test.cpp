@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli_test_util.h"
 #include "fricrom/balance.h"
 #include "fricrom/bounds.h"
 #include "fricrom/case_file.h"
@@ -24,18 +25,11 @@ const fs::path kDir = fs::path(FRICROM_SOURCE_DIR) / "meshes/cascade3";
 const double kFaceArea = 1.0606601717798e-4;  // contact strip 0.03 x 0.0025*sqrt(2) [m^2]
 const double kDamperMass = 9.2865e-3;         // [kg], meshes/README.md
 
-std::string Read(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The case with one text replacement, written next to the original (relative paths hold).
 class CascadeVariant : public ::testing::Test {
  protected:
   Case Load(const std::string& from, const std::string& to, size_t count = 1) {
-    std::string text = Read(kDir / "coarse.toml");
+    std::string text = testing::ReadFile(kDir / "coarse.toml");
     size_t at = 0;
     for (size_t i = 0; i < count; ++i, at += to.size()) {
       at = text.find(from, at);
@@ -78,8 +72,8 @@ TEST_F(CascadeVariant, ComponentDampingBasisChangesOnlyTheDamping) {
 // changed, nothing else (its header comment aside), so that what the docs measured on it (the
 // case's damping until 2026-11-27) stays reproducible and comparable.
 TEST(Cascade, FixedInterfaceVariantDiffersOnlyInTheDamping) {
-  std::string coarse = Read(kDir / "coarse.toml");
-  const std::string variant = Read(kDir / "coarse_fixed_interface_damping.toml");
+  std::string coarse = testing::ReadFile(kDir / "coarse.toml");
+  const std::string variant = testing::ReadFile(kDir / "coarse_fixed_interface_damping.toml");
   const auto replace_all = [](std::string* t, const std::string& from, const std::string& to) {
     int n = 0;
     for (size_t at = t->find(from); at != std::string::npos; at = t->find(from, at + to.size())) {

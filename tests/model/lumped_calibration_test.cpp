@@ -11,8 +11,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "fricrom/linear.h"
@@ -22,11 +22,12 @@ namespace {
 
 namespace fs = std::filesystem;
 const fs::path kSource = FRICROM_SOURCE_DIR;
-const double kFaceArea = 0.03 * 0.0025 * std::numbers::sqrt2;  // contact strip [m^2]
-const double kArea = 4.0e11;                                   // k_area of the case [N/m^3]
+const double kStripArea = 0.03 * 0.0025 * std::numbers::sqrt2;  // contact strip [m^2]
+const double kArea = 4.0e11;                                    // k_area of the case [N/m^3]
 // Damper prism: trapezoid (top 0.003, bottom 0.008, height 0.0025) on a 0.008 x 0.003 block,
 // 0.03 long, density 8200 kg/m^3 (meshes/damper/damper_deck.inp).
-const double kDamperMass = 8200.0 * 0.03 * (0.5 * (0.003 + 0.008) * 0.0025 + 0.008 * 0.003);
+const double kDamperMassFromGeometry =
+    8200.0 * 0.03 * (0.5 * (0.003 + 0.008) * 0.0025 + 0.008 * 0.003);
 
 const LumpedCalibration& Cascade() {
   static const LumpedCalibration l =
@@ -42,8 +43,8 @@ TEST(LumpedCalibration, ContactsDampersAndPreloadFollowFromTheGeometry) {
   for (const LumpedContact& c : l.contacts) {
     EXPECT_EQ(c.pairs, 27) << c.name;
     EXPECT_NEAR(c.theta, std::numbers::pi / 4, 1e-9) << c.name;  // 45° chamfers
-    EXPECT_NEAR(c.kn, kArea * kFaceArea, 1e-9 * kArea * kFaceArea) << c.name;
-    EXPECT_NEAR(c.kt, kArea * kFaceArea, 1e-9 * kArea * kFaceArea) << c.name;
+    EXPECT_NEAR(c.kn, kArea * kStripArea, 1e-9 * kArea * kStripArea) << c.name;
+    EXPECT_NEAR(c.kt, kArea * kStripArea, 1e-9 * kArea * kStripArea) << c.name;
     EXPECT_NEAR(c.mu, 0.5, 1e-12) << c.name;
   }
   // The paper's order: damper 1 left on blade 1, right on blade 2; damper 2 left on blade 2, ...
@@ -53,7 +54,8 @@ TEST(LumpedCalibration, ContactsDampersAndPreloadFollowFromTheGeometry) {
   EXPECT_TRUE(!l.contacts[3].left_face && l.contacts[3].counterpart == "blade3");
   const double accel = std::pow(2 * std::numbers::pi * 6000.0 / 60.0, 2) * 0.25;  // rpm, radius
   for (const LumpedDamper& d : l.dampers) {
-    EXPECT_NEAR(d.mass, kDamperMass, 1e-6 * kDamperMass) << d.name;  // a tet mesh of a prism
+    EXPECT_NEAR(d.mass, kDamperMassFromGeometry, 1e-6 * kDamperMassFromGeometry)
+        << d.name;  // a tet mesh of a prism
     EXPECT_NEAR(d.preload / d.mass, accel, 1e-9 * accel) << d.name;
   }
 }

@@ -10,18 +10,17 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "fricrom/reduction.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 struct KM {
   SpMat k, m;
@@ -103,7 +102,8 @@ TEST(CraigBampton, SmallChainMatchesDenseTransformationAndFullEigenvalues) {
   EXPECT_EQ(red.interior_dofs, (std::vector<int>{0, 2, 3, 5}));
 
   // Full and reduced eigenvalues agree exactly (T is square and invertible).
-  const Eigen::VectorXd full = DenseGeneralisedEigenvalues(Eigen::MatrixXd(km.k), Eigen::MatrixXd(km.m));
+  const Eigen::VectorXd full =
+      DenseGeneralisedEigenvalues(Eigen::MatrixXd(km.k), Eigen::MatrixXd(km.m));
   const Eigen::VectorXd redl = DenseGeneralisedEigenvalues(red.stiffness, red.mass);
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(redl(j) / full(j), 1.0, 1e-10) << j;
 
@@ -124,7 +124,8 @@ TEST(CraigBampton, SmallChainMatchesDenseTransformationAndFullEigenvalues) {
     const double d = phi.col(j).dot(mii * red.normal_modes.col(j));
     EXPECT_NEAR(std::abs(d), 1.0, 1e-10);
     if (d < 0) phi.col(j) *= -1.0;
-    EXPECT_NEAR(red.modal_frequencies_hz(j), ToHz(es.eigenvalues()(j)), 1e-10 * ToHz(es.eigenvalues()(j)));
+    EXPECT_NEAR(red.modal_frequencies_hz(j), ToHz(es.eigenvalues()(j)),
+                1e-10 * ToHz(es.eigenvalues()(j)));
   }
   Eigen::MatrixXd t = Eigen::MatrixXd::Zero(6, 6);
   t.topLeftCorner(2, 2).setIdentity();
@@ -159,7 +160,8 @@ TEST(CraigBampton, TruncatedChainMatchesDenseTransformation) {
   EXPECT_LE((kr - red.stiffness).cwiseAbs().maxCoeff(), 1e-10 * kr.cwiseAbs().maxCoeff());
   EXPECT_LE((mr - red.mass).cwiseAbs().maxCoeff(), 1e-10 * mr.cwiseAbs().maxCoeff());
   // Reduced eigenvalues are upper bounds of the full ones (Rayleigh-Ritz).
-  const Eigen::VectorXd full = DenseGeneralisedEigenvalues(Eigen::MatrixXd(km.k), Eigen::MatrixXd(km.m));
+  const Eigen::VectorXd full =
+      DenseGeneralisedEigenvalues(Eigen::MatrixXd(km.k), Eigen::MatrixXd(km.m));
   const Eigen::VectorXd redl = DenseGeneralisedEigenvalues(red.stiffness, red.mass);
   for (int j = 0; j < 5; ++j) EXPECT_GE(redl(j), full(j) * (1.0 - 1e-12)) << j;
 }
@@ -172,8 +174,8 @@ TEST(CraigBampton, SparseGridLowModesMatchFullModel) {
   std::vector<int> boundary;
   for (int y = 0; y < ny; ++y) boundary.push_back(y * nx + nx - 1);  // edge x = nx-1
   CraigBamptonOptions opt;
-  opt.num_modes = 8;        // first batch
-  opt.cutoff_hz = 50.0;     // 29 modes
+  opt.num_modes = 8;     // first batch
+  opt.cutoff_hz = 50.0;  // 29 modes
   CraigBamptonSummary sum;
   const ReducedModel red = ReduceCraigBampton(km.k, km.m, boundary, opt, &sum);
   std::cout << sum.BriefReport() << "\n";
@@ -229,8 +231,8 @@ TEST(CraigBampton, SparseGridLowModesMatchFullModel) {
     const double rel = redl(j) / full(j) - 1.0;
     std::cout << "system mode " << j << ": " << f << " Hz, f/f_q " << f / fq
               << ", rel eigenvalue error " << rel << "\n";
-    EXPECT_GE(rel, -1e-12) << j;                            // upper bound
-    EXPECT_LE(rel, 1e-2 * (f / fq) * (f / fq)) << j;        // quadratic convergence
+    EXPECT_GE(rel, -1e-12) << j;                      // upper bound
+    EXPECT_LE(rel, 1e-2 * (f / fq) * (f / fq)) << j;  // quadratic convergence
     ++compared;
   }
   EXPECT_GE(compared, 5);
@@ -271,8 +273,9 @@ TEST(CraigBampton, ArpackMatchesDensePath) {
   const Eigen::VectorXd la = DenseGeneralisedEigenvalues(ra.stiffness, ra.mass);
   const Eigen::VectorXd ld = DenseGeneralisedEigenvalues(rd.stiffness, rd.mass);
   for (int j = 0; j < la.size(); ++j) EXPECT_NEAR(la(j) / ld(j), 1.0, 1e-10) << j;
-  EXPECT_LE((ra.stiffness.topLeftCorner(4, 4) - rd.stiffness.topLeftCorner(4, 4))
-                .cwiseAbs().maxCoeff(), 1e-10 * rd.stiffness.cwiseAbs().maxCoeff());
+  EXPECT_LE(
+      (ra.stiffness.topLeftCorner(4, 4) - rd.stiffness.topLeftCorner(4, 4)).cwiseAbs().maxCoeff(),
+      1e-10 * rd.stiffness.cwiseAbs().maxCoeff());
 }
 
 // (3) Free-free body: a negative shift makes the interior factorable; rigid modes appear.

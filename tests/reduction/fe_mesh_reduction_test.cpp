@@ -11,20 +11,20 @@
 
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "fricrom/fe_model.h"
 #include "fricrom/reduction.h"
+#include "fricrom/units.h"
+#include "test_models.h"
 
 namespace fricrom {
 namespace {
 
-const std::string kMeshes = std::string(FRICROM_SOURCE_DIR) + "/meshes/";
+using testing::kMeshes;
 const std::vector<std::string> kBladeSets = {"CONTACT_LEFT", "CONTACT_RIGHT", "EXCITATION",
                                              "RESPONSE"};
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct Model {
   FeModel fe;
@@ -91,7 +91,8 @@ TEST(FeMeshReduction, BladeSectorEigenfrequenciesConvergeToTheFullModel) {
       EXPECT_GT(e(j), -1e-9) << "mode " << j + 1;
       if (f_full(j) <= cutoff / 40) {
         ++well_below;
-        EXPECT_LT(e(j), 1e-6) << "mode " << j + 1 << " at " << f_full(j) << " Hz, cutoff " << cutoff;
+        EXPECT_LT(e(j), 1e-6) << "mode " << j + 1 << " at " << f_full(j) << " Hz, cutoff "
+                              << cutoff;
       }
       if (f_full(j) <= cutoff / 4) {
         EXPECT_LT(e(j), 1e-2) << "mode " << j + 1;
@@ -114,8 +115,8 @@ TEST(FeMeshReduction, BladeSectorStaticBoundaryResponseIsExactInteriorConverges)
     CraigBamptonSummary s;
     const ReducedModel r = ReduceCraigBampton(blade.k->real, blade.m->real, sel.indices, opt, &s);
     ASSERT_EQ(s.status, CraigBamptonStatus::kSuccess);
-    const StaticCheckResult st = CompareStaticBodyLoad(blade.k->real, blade.m->real,
-                                                       blade.k->row_dofs, r, {0, 0, 9.81});
+    const StaticCheckResult st =
+        CompareStaticBodyLoad(blade.k->real, blade.m->real, blade.k->row_dofs, r, {0, 0, 9.81});
     ASSERT_TRUE(st.solved) << st.message;
     EXPECT_LT(st.rel_error, 1e-9);  // static condensation is exact on the boundary
     EXPECT_LT(st.interior_rel_error, previous);
@@ -199,8 +200,8 @@ TEST(FeMeshReduction, FreeFreeDamperKeepsItsRigidBodyModesAndMassProperties) {
   const double jyz_c = sec.iyz - sec.a * c.y() * c.z();
   const double xx = length * length / 12.0 * sec.a;  // integral of x^2 over the section * L / L
   Eigen::Matrix3d inertia;
-  inertia << jyy_c + jzz_c, 0, 0,                      //
-      0, xx + jzz_c, -jyz_c,                           //
+  inertia << jyy_c + jzz_c, 0, 0,  //
+      0, xx + jzz_c, -jyz_c,       //
       0, -jyz_c, xx + jyy_c;
   inertia *= rho * length;
   EXPECT_NEAR(mass, 9.2865e-3, 1e-7);  // meshes/README.md

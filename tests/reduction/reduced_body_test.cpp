@@ -16,12 +16,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "app/cli_test_util.h"
+#include "fricrom/units.h"
+#include "test_models.h"
 
 namespace fricrom {
 namespace {
@@ -30,9 +31,8 @@ namespace fs = std::filesystem;
 using testing::Quote;
 using testing::TempDir;
 
-const std::string kMeshes = std::string(FRICROM_SOURCE_DIR) + "/meshes/";
+using testing::kMeshes;
 const std::string kDamperDir = kMeshes + "damper/coarse/";
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // The free damper reduced onto its two contact faces. Its interior is held by the faces, so
 // shift 0 would do; a small negative shift (1 Hz) is what `reduce --shift-hz 1` gives.

@@ -18,11 +18,12 @@
 
 #include "fricrom/fe_model.h"
 #include "fricrom/reduction.h"
+#include "test_models.h"
 
 namespace fricrom {
 namespace {
 
-const std::string kMeshes = std::string(FRICROM_SOURCE_DIR) + "/meshes/";
+using testing::kMeshes;
 
 struct Body {
   FeModel fe;

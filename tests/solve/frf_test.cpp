@@ -12,12 +12,11 @@
 #include <vector>
 
 #include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
 namespace {
-
-constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // First-harmonic describing function of a Jenkins element (stiffness kt, slip force fs) under
 // u = A cos θ: T ≈ a cos θ + b sin θ (closed form of the stick-slip hysteresis loop).

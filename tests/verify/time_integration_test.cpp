@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -15,12 +14,12 @@
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
 #include "fricrom/linear.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom {
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
 using Status = TimeIntegrationResult::Status;
 
 TimeIntegrationOptions At(double freq_hz) {
