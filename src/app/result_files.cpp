@@ -55,8 +55,8 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["alpha_count"] = b.min.alpha.size() > 0 ? b.min.alpha.size() : model.num_alpha();
   j["y_min"] = NumberOrNull(b.min.amplitude);
   j["y_max"] = NumberOrNull(b.max.amplitude);
-  j["eta_min"] =
-      NumberOrNull(b.max.loss_factor);  // the maximum response has the minimum loss factor
+  // the maximum response has the minimum loss factor
+  j["eta_min"] = NumberOrNull(b.max.loss_factor);
   j["eta_max"] = NumberOrNull(b.min.loss_factor);
   j["alpha_at_min"] = ToStd(b.min.alpha);
   j["alpha_at_max"] = ToStd(b.max.alpha);
