@@ -78,6 +78,15 @@ struct BoundsOptions {
   // starts only, so the result does not depend on the order of the runs.
   bool stop_dominated_runs = true;
   double tolerance = 1e-9;  // optimality tolerance of the scaled problem
+  // A reduced-space run is stationary once its objective (scaled by its start's) changes by at
+  // most this relative amount in 3 accepted iterations in a row.
+  double stationary_change = 1e-7;
+  // The same test for the harmonic ladder's refinement at H (search_harmonics = 1), which only
+  // carries an H = 1 optimum to its neighbour at H: there a change of 1e-5 per iteration is far
+  // below what H itself changes the bounds by (H = 3 against H = 7: 0.5-1 % in y_max and R on
+  // the FE cascade's flank, docs/lumped-vs-fe.md), and the tail of iterations below it cost
+  // most of the refinement's time (docs/bounds-and-design.md).
+  double refinement_stationary_change = 1e-5;
   Objective objective = kAmplitude;
   // Sample check: after the optimisation, the response is solved at this many random α (fixed
   // seed below). A sample beyond a bound proves that bound a local optimum only: the optimiser

@@ -44,6 +44,7 @@ struct DesignCommands::State {
   int check_samples = BoundsOptions{}.check_samples, random_seeds = 0;
   int line_search_memory = BoundsOptions{}.line_search_memory;
   double negligible_minimum = BoundsOptions{}.negligible_minimum;
+  double refinement_change = BoundsOptions{}.refinement_stationary_change;
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
@@ -76,6 +77,7 @@ struct DesignCommands::State {
     o.check_samples = check_samples;
     o.line_search_memory = line_search_memory;
     o.negligible_minimum = negligible_minimum;
+    o.refinement_stationary_change = refinement_change;
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
@@ -107,6 +109,7 @@ struct DesignCommands::State {
               {"check_samples", check_samples},
               {"line_search_memory", line_search_memory},
               {"negligible_minimum", negligible_minimum},
+              {"refinement_change", refinement_change},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
               {"interface_seeds", interface_seeds}};

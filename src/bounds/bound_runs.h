@@ -34,6 +34,9 @@ struct RunSetup {
   int line_search_memory = 1;  // BoundsOptions::line_search_memory
   // A run stops once its objective is at or below this (BoundsOptions::minimum_stop_m).
   double stop_below = -std::numeric_limits<double>::infinity();
+  // A reduced-space run is stationary once its objective changes by at most this (relative)
+  // in 3 accepted iterations in a row (BoundsOptions::stationary_change).
+  double stationary_change = 1e-7;
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,

@@ -86,6 +86,15 @@ bool BoundsOptions::IsValid(std::string* error) const {
     *error = "BoundsOptions.max_iterations must be >= 1, got " + std::to_string(max_iterations);
     return false;
   }
+  for (const auto& [name, value] :
+       {std::pair<const char*, double>{"stationary_change", stationary_change},
+        {"refinement_stationary_change", refinement_stationary_change}}) {
+    if (!(value > 0.0 && value < 1.0)) {
+      *error = std::string("BoundsOptions.") + name + " must lie in (0, 1), got " +
+               std::to_string(value);
+      return false;
+    }
+  }
   if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
     *error = "BoundsOptions.tolerance must be positive and finite";
     return false;
@@ -452,6 +461,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   setup.residual_scale = system.ResidualScale();
   setup.stall_tolerance = options.tolerance;
   setup.line_search_memory = options.line_search_memory;
+  setup.stationary_change = options.stationary_change;
   setup.x_scale.resize(system.num_unknowns());
   for (int j = 0; j < nh; ++j) {
     const double block = x_stick.segment(j * n, n).lpNorm<Eigen::Infinity>();

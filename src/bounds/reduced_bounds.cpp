@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -333,10 +334,13 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
     recent_.push_back(phi_);
     if (std::ssize(recent_) > memory_) recent_.erase(recent_.begin());
     if (chord_) regimes_ = t.regimes.empty() ? sys_.ContactRegimes(x_, s_.omega, a_) : t.regimes;
-    quiet_ = change <= tolerance_ * std::max(std::abs(phi_), 1.0) ? quiet_ + 1 : 0;
+    quiet_ = change <= s_.stationary_change * std::max(std::abs(phi_), 1.0) ? quiet_ + 1 : 0;
     if (quiet_ >= 3) {
       if (BackToBest()) continue;
-      return Finish(BoundStatus::kConverged, "reduced space: objective stationary");
+      std::ostringstream message;
+      message << "reduced space: objective stationary (relative change <= " << s_.stationary_change
+              << " in 3 iterations)";
+      return Finish(BoundStatus::kConverged, message.str());
     }
     const double sy = ds.dot(dg);
     step_ =

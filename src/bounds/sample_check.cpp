@@ -255,6 +255,7 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   // the refinement's time on the 50-point FE curve and found nothing the search at H = 1 had
   // not; BoundsOptions::line_search_memory).
   at_h.line_search_memory = 1;
+  at_h.stationary_change = options.refinement_stationary_change;
   if (options.negligible_minimum > 0.0 && low.max.IsUsable()) {
     at_h.minimum_stop_m = options.negligible_minimum * low.max.amplitude;
   }

@@ -138,6 +138,24 @@ TEST(Ladder, RefinementOfTheMinimumStopsAtANegligibleResponse) {
   EXPECT_EQ(stopped.max.amplitude, full.max.amplitude);
 }
 
+// The stationarity tests are fractions in (0, 1); the search's runs and the ladder's refinement
+// have one each (Cascade.LooserStationarityTestStopsEarlierOnTheSamePath: what a looser one does).
+TEST(Ladder, StationarityTestsOutsideZeroToOneAreRejected) {
+  std::string error;
+  EXPECT_TRUE(BoundsOptions{}.IsValid(&error)) << error;
+  EXPECT_GT(BoundsOptions{}.refinement_stationary_change, BoundsOptions{}.stationary_change);
+  for (double bad : {0.0, 1.0, -1e-5, std::nan("")}) {
+    BoundsOptions b;
+    b.refinement_stationary_change = bad;
+    EXPECT_FALSE(b.IsValid(&error)) << bad;
+    EXPECT_NE(error.find("refinement_stationary_change"), std::string::npos) << error;
+    b = BoundsOptions{};
+    b.stationary_change = bad;
+    EXPECT_FALSE(b.IsValid(&error)) << bad;
+    EXPECT_NE(error.find("stationary_change"), std::string::npos) << error;
+  }
+}
+
 TEST(Ladder, ChangesNothingAtH1) {
   BoundsOptions ladder;
   ladder.search_harmonics = 1;
