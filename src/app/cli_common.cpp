@@ -71,6 +71,19 @@ CLI::Validator NumberAbove(double lower, bool inclusive, const std::string& what
 CLI::Validator Positive() { return NumberAbove(0.0, false, "> 0", "POSITIVE"); }
 CLI::Validator NonNegative() { return NumberAbove(0.0, true, ">= 0", "NON-NEGATIVE"); }
 
+CLI::Validator FractionBelowOne(bool zero_allowed) {
+  const std::string range = zero_allowed ? "[0, 1)" : "(0, 1)";
+  return CLI::Validator(
+      [=](const std::string& v) {
+        double r = 0.0;
+        const bool number = CLI::detail::lexical_cast(v, r);
+        return number && (zero_allowed ? r >= 0.0 : r > 0.0) && r < 1.0
+                   ? std::string()
+                   : "must be a number in " + range + ", got " + v;
+      },
+      "in " + range);
+}
+
 std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c) {
   return MakeBalance(
       c.model,

@@ -39,6 +39,8 @@ struct CaseArgs {
 // "> 0 and finite" / ">= 0 and finite", with a short message (CLI11's own prints DBL_MAX in full).
 CLI::Validator Positive();
 CLI::Validator NonNegative();
+// A fraction in [0, 1) (zero_allowed) or (0, 1): "must be a number in [0, 1), got ...".
+CLI::Validator FractionBelowOne(bool zero_allowed);
 
 // The harmonic-balance problem of a loaded case (full or condensed, analysis.balance).
 std::unique_ptr<HarmonicBalance> MakeCaseBalance(const Case& c);

@@ -81,26 +81,12 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "Minimum runs whose result starts nothing else (the harmonic ladder's "
                   "refinement, a curve's neighbour starts) stop once y_min falls to this "
                   "fraction of the point's y_max (R is then below it); 0: never (default 0.001)")
-      ->check(CLI::Validator(
-          [](const std::string& v) {
-            double r = 0.0;
-            const bool number = CLI::detail::lexical_cast(v, r);
-            return number && r >= 0.0 && r < 1.0 ? std::string()
-                                                 : "must be a number in [0, 1), got " + v;
-          },
-          "in [0, 1)"));
+      ->check(FractionBelowOne(true));
   cmd->add_option("--refinement-change", refinement_change,
                   "Harmonic ladder: a refinement run at H stops once its objective changes by at "
                   "most this relative amount in 3 iterations in a row (default 1e-5; the search's "
                   "runs: 1e-7)")
-      ->check(CLI::Validator(
-          [](const std::string& v) {
-            double r = 0.0;
-            const bool number = CLI::detail::lexical_cast(v, r);
-            return number && r > 0.0 && r < 1.0 ? std::string()
-                                                : "must be a number in (0, 1), got " + v;
-          },
-          "in (0, 1)"));
+      ->check(FractionBelowOne(false));
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -221,16 +222,27 @@ TEST(Cascade, ConvergesAtOneFrequencyInFullStickWithModalAndDenseReceptance) {
   EXPECT_NEAR(amp[0], amp[1], 1e-3 * amp[1]);
 }
 
+// The coarse cascade's condensed balance at H = 1, 64 samples, modal receptance.
+std::unique_ptr<HarmonicBalance> CoarseBalanceAtH1() {
+  const Case c = LoadCase((kDir / "coarse.toml").string());
+  return MakeBalance(c.model, HbmOptions{1, 64, ReceptanceMethod::kModal}, BalanceKind::kCondensed);
+}
+
+// Bounds without the sample check and with no run abandoned as dominated: every run ends by its
+// own stopping tests.
+BoundsOptions EveryRunToItsEnd() {
+  BoundsOptions o;
+  o.check_samples = 0;
+  o.stop_dominated_runs = false;
+  return o;
+}
+
 // At 1000 Hz the maximum response is the full-stick one, a KKT point at the first seed; the run
 // maximising from a lift-off seed crawls along kinks for ~100 iterations towards a lower local
 // maximum. Stopping it as dominated leaves both bounds as they are.
 TEST(Cascade, DominatedRunsAreAbandonedWithoutChangingTheBounds) {
-  const Case c = LoadCase((kDir / "coarse.toml").string());
-  const auto b =
-      MakeBalance(c.model, HbmOptions{1, 64, ReceptanceMethod::kModal}, BalanceKind::kCondensed);
-  BoundsOptions o;
-  o.check_samples = 0;
-  o.stop_dominated_runs = false;
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o = EveryRunToItsEnd();
   const BoundsResult all = ComputeBounds(*b, 1000.0, o);
   o.stop_dominated_runs = true;
   const BoundsResult cut = ComputeBounds(*b, 1000.0, o);
@@ -249,12 +261,8 @@ TEST(Cascade, DominatedRunsAreAbandonedWithoutChangingTheBounds) {
 // seed +0.5 climbs by ever smaller steps for ~180 iterations; with a change of 1e-3 per iteration
 // counted as none it stops after a few, below the tight run's maximum and within 1 % of it.
 TEST(Cascade, LooserStationarityTestStopsEarlierOnTheSamePath) {
-  const Case c = LoadCase((kDir / "coarse.toml").string());
-  const auto b =
-      MakeBalance(c.model, HbmOptions{1, 64, ReceptanceMethod::kModal}, BalanceKind::kCondensed);
-  BoundsOptions o;
-  o.check_samples = 0;
-  o.stop_dominated_runs = false;
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o = EveryRunToItsEnd();
   o.line_search_memory = 1;  // monotone: one path, whatever the test
   o.alpha_seeds = {Eigen::VectorXd::Constant(b->num_alpha(), 0.5)};
   const BoundsResult tight = ComputeBounds(*b, 1000.0, o);
