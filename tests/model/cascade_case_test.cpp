@@ -258,20 +258,22 @@ TEST(Cascade, DominatedRunsAreAbandonedWithoutChangingTheBounds) {
 // The reduced-space runs' stationarity test (BoundsOptions::stationary_change; the harmonic
 // ladder's refinement uses refinement_stationary_change) only decides where a monotone run stops:
 // a looser one ends the same path on an earlier iterate. At 1000 Hz the run maximising from the
-// seed +0.5 climbs by ever smaller steps for ~180 iterations; with a change of 1e-3 per iteration
-// counted as none it stops after a few, below the tight run's maximum and within 1 % of it.
+// seed +0.5 climbs by ever smaller steps (179 iterations at the default 1e-7, 18 at 1e-4: the
+// tighter reference here, to keep the test short under the sanitizers); counting a change of 1e-3
+// per iteration as none it stops after a few, below the tighter run's maximum and within 1 %.
 TEST(Cascade, LooserStationarityTestStopsEarlierOnTheSamePath) {
   const auto b = CoarseBalanceAtH1();
   BoundsOptions o = EveryRunToItsEnd();
   o.line_search_memory = 1;  // monotone: one path, whatever the test
   o.alpha_seeds = {Eigen::VectorXd::Constant(b->num_alpha(), 0.5)};
+  o.stationary_change = 1e-4;
   const BoundsResult tight = ComputeBounds(*b, 1000.0, o);
   o.stationary_change = 1e-3;
   const BoundsResult loose = ComputeBounds(*b, 1000.0, o);
   ASSERT_TRUE(tight.max.IsUsable() && loose.max.IsUsable())
       << tight.BriefReport() << loose.BriefReport();
-  ASSERT_GE(tight.max.iterations, 20) << "the tight run must climb for this test";
-  EXPECT_LT(loose.max.iterations, tight.max.iterations / 4);
+  ASSERT_GE(tight.max.iterations, 10) << "the tighter run must climb for this test";
+  EXPECT_LT(loose.max.iterations, tight.max.iterations / 2);
   EXPECT_NE(loose.max.message.find("relative change <= 0.001 in 3 iterations"), std::string::npos)
       << loose.max.message;
   EXPECT_TRUE(loose.max.stationary);
