@@ -9,10 +9,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # Four UBSan checks are left to others here: object-size (ASan checks every access against its
 # redzones), null (a null dereference is a SEGV that ASan reports with its stack), alignment and
-# pointer-overflow. Measured on a 2-core Xeon VM (2026-11-28,
-# Bounds.NonmonotoneRunsEndOnTheirBestIterate): 30.6 s with them, 7.1 s without (ASan alone 5.9 s, Release 1.5 s): in Eigen's inner loops they
-# keep clang -O1 from inlining the coefficient accessors. The fuzz smoke run (scripts/fuzz_smoke.sh)
-# keeps the whole -fsanitize=undefined set on every FE reader and the case parser.
+# pointer-overflow. They are costly in Eigen's inner loops (the profile shows its coefficient
+# accessors as calls there): Bounds.NonmonotoneRunsEndOnTheirBestIterate 30.6 s with them,
+# 7.1 s without (ASan alone 5.9 s, Release 1.5 s; 2-core Xeon VM, 2026-11-28). The fuzz smoke
+# run (scripts/fuzz_smoke.sh) keeps the whole -fsanitize=undefined set on every FE reader and
+# the case parser.
 flags="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined \
   -fno-sanitize=object-size,null,alignment,pointer-overflow -fno-sanitize-recover=all"
 # clang (installed for the fuzz targets): faster than gcc here (10 against 14 min per file on 2
