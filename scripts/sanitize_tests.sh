@@ -25,10 +25,10 @@ cmake --build build-asan -j"$(nproc)"
 source scripts/test_env.sh
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-# ~10x slower under the sanitizers, the longest tests take smaller sizes here (the same code
-# paths; the Release suite runs the full sizes): the kill/resume scripts a 16-value sweep and an
-# 8-point curve (journal, kill -9, --resume, MPI, lock), the alpha-grid test every 7th point, the
-# FE cascade's verify one time integration (181 s with two on a 2-core Xeon VM).
+# ~5x slower under the sanitizers (20x with all of UBSan's checks), the longest tests take
+# smaller sizes here (the same code paths; the Release suite runs the full sizes): the kill/resume
+# scripts a 16-value sweep and an 8-point curve (journal, kill -9, --resume, MPI, lock), the
+# alpha-grid test every 7th point, the FE cascade's verify one time integration.
 export FRICROM_TEST_SWEEP_STEPS=16 FRICROM_TEST_CURVE_POINTS=8 FRICROM_TEST_GRID_STRIDE=7
 export FRICROM_TEST_TIME_RUNS=1
 ctest --test-dir build-asan --output-on-failure -j"$(nproc)"
