@@ -41,6 +41,9 @@ class AlphaGroupedBalance final : public HarmonicBalance {
   Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const override {
     return inner_->AmplitudeSquaredGradient(x);
   }
+  std::array<int, 2> ResponseCoefficients() const override {
+    return inner_->ResponseCoefficients();
+  }
   double LossFactor(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                     const HbmEvaluation& e, Eigen::VectorXd* grad_x,
                     Eigen::VectorXd* grad_alpha) const override;

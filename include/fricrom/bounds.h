@@ -87,6 +87,16 @@ struct BoundsOptions {
   // the FE cascade's flank, docs/lumped-vs-fe.md), and the tail of iterations below it cost
   // most of the refinement's time (docs/bounds-and-design.md).
   double refinement_stationary_change = 1e-5;
+  // Minimum runs of the amplitude objective try a Gauss-Newton step for the response phasor
+  // y(α) = (a1, b1) → 0 before each projected-gradient step: the least-norm δα with
+  // J δα = −y on the α box (J = ∂y/∂α, its second row by one more adjoint solve), accepted
+  // where it halves φ = |y|². Where some α bring the response DOF to rest (next to its
+  // anti-resonances) the projected gradient stops at kinks of the response or crawls; the
+  // Gauss-Newton steps cross them to y ≈ 0 in a few iterations (FE cascade's default curve:
+  // R 0.034-0.070 → < 0.001 at five frequencies, docs/bounds-and-design.md). After a failed
+  // step the next waits 2, 4, ... 64 iterations, so that runs towards a minimum y ≠ 0 lose
+  // little. False: projected gradient only (every run before 2026-11-28, fourteenth session).
+  bool gauss_newton_minimum = true;
   Objective objective = kAmplitude;
   // Sample check: after the optimisation, the response is solved at this many random α (fixed
   // seed below). A sample beyond a bound proves that bound a local optimum only: the optimiser

@@ -56,6 +56,9 @@ class CondensedSystem : public HarmonicBalance {
   Eigen::VectorXd StickLinearSolution(double omega) const override;
   double Amplitude(const Eigen::VectorXd& x) const override;
   Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const override;
+  std::array<int, 2> ResponseCoefficients() const override {
+    return {Idx(1, num_relative()), Idx(2, num_relative())};
+  }
   double LossFactor(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                     const HbmEvaluation& e, Eigen::VectorXd* grad_x,
                     Eigen::VectorXd* grad_alpha) const override;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -90,6 +91,9 @@ class HarmonicBalance {
   // First-harmonic amplitude of the response [m], and the gradient of its square w.r.t. x.
   virtual double Amplitude(const Eigen::VectorXd& x) const = 0;
   virtual Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const = 0;
+  // Where in x the response's first-harmonic cosine and sine coefficients are (Amplitude is
+  // their hypot): every balance carries them as unknowns.
+  virtual std::array<int, 2> ResponseCoefficients() const = 0;
   // Loss factor η (CycleEnergy::loss_factor) and, when the gradients are requested, its exact
   // gradient; `e` must hold R at (x, α), and the Jacobians too when gradients are requested.
   virtual double LossFactor(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,

@@ -48,6 +48,9 @@ class HbmSystem : public HarmonicBalance {
   Eigen::VectorXd StickLinearSolution(double omega) const override;
   double Amplitude(const Eigen::VectorXd& x) const override { return DofAmplitude(x, -1); }
   Eigen::VectorXd AmplitudeSquaredGradient(const Eigen::VectorXd& x) const override;
+  std::array<int, 2> ResponseCoefficients() const override {
+    return {Index(model_.response_dof, 1), Index(model_.response_dof, 2)};
+  }
   // First-harmonic amplitude of a DOF (−1: the response DOF) [m].
   double DofAmplitude(const Eigen::VectorXd& x, int dof) const;
   double LossFactor(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,

@@ -37,6 +37,9 @@ struct RunSetup {
   // A reduced-space run is stationary once its objective changes by at most this (relative)
   // in 3 accepted iterations in a row (BoundsOptions::stationary_change).
   double stationary_change = 1e-7;
+  // Minimum runs of the amplitude objective try Gauss-Newton steps towards y = 0
+  // (BoundsOptions::gauss_newton_minimum).
+  bool gauss_newton = false;
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,

@@ -462,6 +462,8 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   setup.stall_tolerance = options.tolerance;
   setup.line_search_memory = options.line_search_memory;
   setup.stationary_change = options.stationary_change;
+  setup.gauss_newton =
+      options.gauss_newton_minimum && options.objective == BoundsOptions::kAmplitude;
   setup.x_scale.resize(system.num_unknowns());
   for (int j = 0; j < nh; ++j) {
     const double block = x_stick.segment(j * n, n).lpNorm<Eigen::Infinity>();

@@ -282,5 +282,27 @@ TEST(Cascade, LooserStationarityTestStopsEarlierOnTheSamePath) {
   EXPECT_GT(loose.max.amplitude, tight.min.amplitude);
 }
 
+// Next to an anti-resonance of blade 2's response (1127.55 Hz, a point of the case's 50-point
+// curve) some α bring the response DOF to rest. From the seed −½ the projected gradient alone
+// stops at a kink of the response within a few iterations, still at a sizeable fraction of the
+// start's response; with the Gauss-Newton steps towards y = 0 (BoundsOptions::gauss_newton_minimum)
+// the run ends decades lower, on a solution of R = 0 where its stopping test holds.
+TEST(Cascade, GaussNewtonStepsBringTheResponseToRestWhereAlphaCan) {
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o = EveryRunToItsEnd();
+  o.alpha_seeds = {Eigen::VectorXd::Constant(b->num_alpha(), -0.5)};
+  const double f = 1050.0 + 38.0 * 100.0 / 49.0;
+  const BoundsResult gn = ComputeBounds(*b, f, o);
+  o.gauss_newton_minimum = false;
+  const BoundsResult pg = ComputeBounds(*b, f, o);
+  ASSERT_TRUE(gn.min.IsUsable() && pg.min.IsUsable()) << gn.BriefReport() << pg.BriefReport();
+  EXPECT_TRUE(gn.min.stationary);
+  EXPECT_LE(gn.min.residual, 1e-6);
+  EXPECT_LT(gn.min.amplitude, 1e-6 * gn.max.amplitude) << gn.min.message;
+  EXPECT_GT(pg.min.amplitude, 1e3 * gn.min.amplitude) << pg.min.message;
+  // The maximum runs take no Gauss-Newton steps: the same path either way.
+  EXPECT_EQ(gn.max.amplitude, pg.max.amplitude);
+}
+
 }  // namespace
 }  // namespace fricrom
