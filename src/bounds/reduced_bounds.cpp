@@ -49,6 +49,23 @@ bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const Ne
   return norm <= o.residual_tolerance;
 }
 
+// The adjoint system (∂R/∂x)ᵀ λ = rhs by GMRES preconditioned with `lu` (a factorised (∂R/∂x)ᵀ),
+// on the matrix-free Jacobian `op` if there is one, else on the dense `jacobian`.
+bool AdjointByGmres(const JacobianOperator* op, const Eigen::MatrixXd& jacobian,
+                    const dense::Lu& lu, const Eigen::VectorXd& rhs, Eigen::VectorXd* lambda) {
+  if (op != nullptr) {
+    const dense::LinearMap apply = [op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+      op->Apply(v, true, out);
+    };
+    return dense::PreconditionedGmres(apply, lu, false, rhs, kAdjointTolerance, kAdjointProducts,
+                                      lambda)
+        .converged;
+  }
+  return dense::PreconditionedGmres(jacobian, true, lu, false, rhs, kAdjointTolerance,
+                                    kAdjointProducts, lambda)
+      .converged;
+}
+
 // φ and the reduced gradient at a solution (x, a) by one adjoint solve (∂R/∂x)ᵀ λ = ∂φ/∂x.
 // Large systems (`krylov_ok`) first try GMRES preconditioned with `previous`, the factorised
 // (∂R/∂x)ᵀ of an earlier point (nearby points differ in a few contacts' blocks); else a new LU.
@@ -72,12 +89,7 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
   *phi = Objective(s, x, a, e, &gx, &ga);
   bool solved = false;
   if (op) {
-    const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-      op->Apply(v, true, out);
-    };
-    solved = dense::PreconditionedGmres(apply, *previous, false, gx, kAdjointTolerance,
-                                        kAdjointProducts, &lambda)
-                 .converged;
+    solved = AdjointByGmres(op.get(), e.jacobian, *previous, gx, &lambda);
     if (!solved) {
       req.alpha_jacobian = false;
       req.jacobian = true;
@@ -86,9 +98,7 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
       e.jacobian = std::move(ej.jacobian);
     }
   } else if (krylov) {
-    solved = dense::PreconditionedGmres(e.jacobian, true, *previous, false, gx, kAdjointTolerance,
-                                        kAdjointProducts, &lambda)
-                 .converged;
+    solved = AdjointByGmres(nullptr, e.jacobian, *previous, gx, &lambda);
   }
   if (solved) {
     *lu = previous;
@@ -134,20 +144,7 @@ bool QuadratureGradient(const RunSetup& s, const Eigen::VectorXd& x, const Eigen
     const std::unique_ptr<JacobianOperator> op = sys.Linearize(x, s.omega, a);
     req.jacobian = op == nullptr;
     sys.Evaluate(x, s.omega, a, req, &e);
-    bool solved = false;
-    if (op) {
-      const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
-        op->Apply(v, true, out);
-      };
-      solved = dense::PreconditionedGmres(apply, lu, false, qx, kAdjointTolerance, kAdjointProducts,
-                                          &lambda)
-                   .converged;
-    } else {
-      solved = dense::PreconditionedGmres(e.jacobian, true, lu, false, qx, kAdjointTolerance,
-                                          kAdjointProducts, &lambda)
-                   .converged;
-    }
-    if (!solved) {
+    if (!AdjointByGmres(op.get(), e.jacobian, lu, qx, &lambda)) {
       if (op) {
         HbmRequest jreq;
         jreq.jacobian = true;
