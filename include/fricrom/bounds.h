@@ -75,7 +75,9 @@ struct BoundsOptions {
   // already gives as a KKT point. Such runs crawl along kinks of the response for hundreds of
   // iterations towards a local optimum that cannot be the bound (on the FE cascade: 100-200
   // iterations, 80 % of a bound's time). The reference every run is compared with comes from the
-  // starts only, so the result does not depend on the order of the runs.
+  // starts only, so the result does not depend on the order of the runs; ImproveBounds (the
+  // curve's neighbour starts) also compares with the bounds it was given: its runs from known
+  // solutions that cannot reach them are stopped likewise.
   bool stop_dominated_runs = true;
   double tolerance = 1e-9;  // optimality tolerance of the scaled problem
   // A reduced-space run is stationary once its objective (scaled by its start's) changes by at
@@ -162,8 +164,8 @@ enum class BoundStatus {
   kMaxIterations,  // iteration limit
   kInfeasible,     // the optimiser found no point satisfying R = 0
   kFailed,         // anything else (restoration failure, tiny steps, evaluation errors, ...)
-  // Stopped because it could not reach the bound a KKT start already gives
-  // (BoundsOptions::stop_dominated_runs); never the status of a bound.
+  // Stopped because it could not reach the bound a KKT start (or, in ImproveBounds, the bound
+  // held) already gives (BoundsOptions::stop_dominated_runs); never the status of a bound.
   kAbandoned,
 };
 std::string ToString(BoundStatus status);

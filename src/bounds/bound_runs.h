@@ -27,9 +27,9 @@ struct RunSetup {
   double stall_tolerance = 1e-9;  // relative objective change that counts as no change
   Eigen::VectorXd x_scale;        // x = x_scale ∘ z
   double residual_scale = 1.0;    // constraints g = R / residual_scale
-  // The best objective (same units: sign·φ/objective_scale) a KKT start already gives in this
-  // run's direction, NaN if none or not to be used: the reduced-space run stops once it cannot
-  // reach it (BoundsOptions::stop_dominated_runs).
+  // The best objective (same units: sign·φ/objective_scale) a KKT start or the bound the caller
+  // holds already gives in this run's direction, NaN if none or not to be used: the
+  // reduced-space run stops once it cannot reach it (BoundsOptions::stop_dominated_runs).
   double incumbent = std::numeric_limits<double>::quiet_NaN();
   int line_search_memory = 1;  // BoundsOptions::line_search_memory
   // A run stops once its objective is at or below this (BoundsOptions::minimum_stop_m).

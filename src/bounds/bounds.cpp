@@ -345,11 +345,13 @@ std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
   return out;
 }
 
-// The best φ over the starts accepted as KKT points in one direction (NaN if none): the value
-// a run in that direction must beat to matter.
-double Incumbent(const std::vector<SeedStart>& starts, const BoundsOptions& options, int dir) {
+// The best φ over the starts accepted as KKT points in one direction and the bound the caller
+// holds (`held`, NaN if none; NaN if neither): the value a run in that direction must beat to
+// matter.
+double Incumbent(const std::vector<SeedStart>& starts, const BoundsOptions& options, int dir,
+                 double held) {
   const double sign = RunSign(options, dir == 1);
-  double best = std::numeric_limits<double>::quiet_NaN();
+  double best = held;
   for (const SeedStart& st : starts) {
     if (!st.ok || !st.kkt[dir]) continue;
     if (!std::isfinite(best) || sign * st.objective < sign * best) best = st.objective;
@@ -435,7 +437,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
                             const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
                             const std::vector<Eigen::VectorXd>& known_x,
                             const std::vector<int>& directions,
-                            const std::vector<bool>& short_starts) {
+                            const std::vector<bool>& short_starts, std::array<double, 2> held) {
   const int nc = system.num_alpha();
   if (seeds.empty() || seeds[0].size() != nc) {
     throw std::invalid_argument("ComputeBounds: alpha seeds have " +
@@ -472,9 +474,11 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
 
   const std::vector<SeedStart> st =
       SeedStarts(system, freq_hz, options, seeds, known_x, short_starts, setup, &result);
-  // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best), never
-  // another run's result, so the outcome does not depend on the order of the runs.
-  const double incumbent[2] = {Incumbent(st, options, 0), Incumbent(st, options, 1)};
+  // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best) and the
+  // bound the caller holds, never another run's result, so the outcome does not depend on the
+  // order of the runs.
+  const double incumbent[2] = {Incumbent(st, options, 0, held[0]),
+                               Incumbent(st, options, 1, held[1])};
   IpoptBounds ipopt(system, options);
   RunTally tally;
   tally.objective = options.objective;

@@ -1,6 +1,7 @@
 // ImproveBounds: bound runs from harmonic-balance solutions found by other routes (time
 // integration, samples, neighbouring frequencies), merged into an existing result.
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,6 +37,13 @@ bool FromNearbyPoint(const HarmonicBalance& system, double omega, const Eigen::V
   o.fallback_max_points = kHomotopyPoints;
   int evaluations = 0;
   return SolveFromNearbyPoint(system, alpha, omega, x0, o, x, &evaluations);
+}
+
+// The objective φ of a held bound (a1² + b1², or η; NaN if it is no bound): runs that cannot
+// reach it are dominated.
+double HeldObjective(const BoundsOptions& options, const BoundSolution& b) {
+  if (!b.IsUsable()) return std::numeric_limits<double>::quiet_NaN();
+  return options.objective == BoundsOptions::kAmplitude ? b.amplitude * b.amplitude : b.loss_factor;
 }
 
 }  // namespace
@@ -97,8 +105,10 @@ int ImproveBounds(const HarmonicBalance& system, double freq_hz, const BoundsOpt
   o.check_samples = 0;
   o.progress = nullptr;
   const BoundSolution kept[2] = {bounds->min, bounds->max};
-  const BoundsResult fresh =
-      OptimiseBounds(system, freq_hz, o, seeds, xs, directions, short_starts);
+  // A run from a known solution that cannot reach the bound already held here is stopped as
+  // dominated (o.stop_dominated_runs), as one that cannot reach a KKT start's.
+  const BoundsResult fresh = OptimiseBounds(system, freq_hz, o, seeds, xs, directions, short_starts,
+                                            {HeldObjective(o, kept[0]), HeldObjective(o, kept[1])});
   MergeBounds(fresh, o.objective, bounds);
   int moved = 0;
   for (bool is_max : {false, true}) {

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
+#include <limits>
 #include <vector>
 
 #include "fricrom/bounds.h"
@@ -13,10 +15,14 @@ namespace fricrom {
 // directions: empty (both), or per seed a mask of the runs to make: 1 minimum, 2 maximum response.
 // short_starts: empty (none), or per seed whether its start may lie short of its α on the α
 // homotopy (KnownSolution::start_short_of_alpha).
-BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
-                            const BoundsOptions& options, const std::vector<Eigen::VectorXd>& seeds,
-                            const std::vector<Eigen::VectorXd>& known_x = {},
-                            const std::vector<int>& directions = {},
-                            const std::vector<bool>& short_starts = {});
+// held: the objective φ (a1² + b1², or η) of the [minimum, maximum] bound the caller already
+// holds at this frequency and harmonic count (NaN: none). With the starts' KKT points it is what
+// a run must be able to reach not to be stopped as dominated (BoundsOptions::stop_dominated_runs).
+BoundsResult OptimiseBounds(
+    const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+    const std::vector<Eigen::VectorXd>& seeds, const std::vector<Eigen::VectorXd>& known_x = {},
+    const std::vector<int>& directions = {}, const std::vector<bool>& short_starts = {},
+    std::array<double, 2> held = {std::numeric_limits<double>::quiet_NaN(),
+                                  std::numeric_limits<double>::quiet_NaN()});
 
 }  // namespace fricrom

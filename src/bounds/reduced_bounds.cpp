@@ -450,9 +450,10 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
       phi_ = t.phi;
       EndOnBest();
       out_.iterations = it + 1;
-      return Finish(BoundStatus::kAbandoned,
-                    "reduced space: abandoned after " + std::to_string(it + 1) +
-                        " iterations, dominated (cannot reach the bound of a KKT start)");
+      return Finish(
+          BoundStatus::kAbandoned,
+          "reduced space: abandoned after " + std::to_string(it + 1) +
+              " iterations, dominated (cannot reach the bound of a KKT start or the one held)");
     }
     x_ = std::move(t.x);
     a_ = std::move(t.a);

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "app/cli_test_util.h"
 #include "fricrom/balance.h"
@@ -253,6 +254,36 @@ TEST(Cascade, DominatedRunsAreAbandonedWithoutChangingTheBounds) {
   EXPECT_NEAR(cut.min.amplitude, all.min.amplitude, 1e-12 * all.max.amplitude);
   EXPECT_NEAR(cut.max.amplitude, all.max.amplitude, 1e-12 * all.max.amplitude);
   EXPECT_GT(cut.robustness(), 0.0);
+}
+
+// The curve's neighbour starts (ImproveBounds) compare their runs with the bounds they are given
+// as well: the run maximising from the solution at α = ½·1 (not a KKT point there, it crawls
+// towards a lower local maximum) cannot reach the full-stick maximum held at 1000 Hz and is
+// stopped, where with its own start as the only reference it ran to its end. The bounds are
+// the same either way.
+TEST(Cascade, RunsFromKnownSolutionsStopWhenTheyCannotReachTheBoundsHeld) {
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o = EveryRunToItsEnd();
+  o.stop_dominated_runs = true;
+  const BoundsResult held = ComputeBounds(*b, 1000.0, o);
+  ASSERT_TRUE(held.IsUsable()) << held.BriefReport();
+  const Eigen::VectorXd half = Eigen::VectorXd::Constant(b->num_alpha(), 0.5);
+  const FrfPoint start = SolveAtFrequency(*b, half, 1000.0, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(start.status, SolverStatus::kConverged);
+  ASSERT_LT(start.amplitude, held.max.amplitude);
+  const std::vector<KnownSolution> known = {{start.x, half, false, true}};
+  BoundsResult to_end = held, cut = held;
+  o.stop_dominated_runs = false;
+  ImproveBounds(*b, 1000.0, o, known, &to_end);
+  o.stop_dominated_runs = true;
+  ImproveBounds(*b, 1000.0, o, known, &cut);
+  EXPECT_EQ(to_end.optimizer_runs - held.optimizer_runs, 1);
+  EXPECT_EQ(cut.optimizer_runs - held.optimizer_runs, 1);
+  EXPECT_EQ(to_end.runs_abandoned, held.runs_abandoned);
+  EXPECT_EQ(cut.runs_abandoned, held.runs_abandoned + 1);
+  EXPECT_EQ(to_end.max.amplitude, held.max.amplitude);
+  EXPECT_EQ(cut.max.amplitude, held.max.amplitude);
+  EXPECT_EQ(cut.min.amplitude, held.min.amplitude);
 }
 
 // The reduced-space runs' stationarity test (BoundsOptions::stationary_change; the harmonic
