@@ -157,25 +157,32 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
   p.ToFrequency(out->law.normal, &out->n);
   if (!derivatives.any()) return;
   // Sample-level sparse derivatives -> coefficient-level blocks: A = analysis · (dF/ds) ·
-  // synthesis.
-  p.w_tu.setZero();
-  p.w_tv.setZero();
-  p.g.setZero();
-  for (int k = 0; k < p.n; ++k) {
-    const TangentialDerivative& d = out->law.dT[k];
-    if (d.u_plus >= 0 && d.u_plus != d.u_minus) {
-      p.w_tu.row(k) = params.kt * (p.synthesis.row(d.u_plus) - p.synthesis.row(d.u_minus));
-    }
-    if (d.v_index >= 0 && d.dv != 0.0) p.w_tv.row(k) = d.dv * p.synthesis.row(d.v_index);
-    p.w_nv.row(k) = out->law.dN_dv[k] * p.synthesis.row(k);
-    p.g[k] = d.dalpha;
-  }
+  // synthesis. The N x nh products are written column by column, each entry once: rows of these
+  // column-major matrices would be strided stores after a clearing pass.
   if (derivatives.displacement) {
+    const std::vector<TangentialDerivative>& dT = out->law.dT;
+    const Eigen::VectorXd& dN = out->law.dN_dv;
+    for (int l = 0; l < p.nh; ++l) {
+      const double* s = p.synthesis.col(l).data();
+      double* tu = p.w_tu.col(l).data();
+      double* tv = p.w_tv.col(l).data();
+      double* nv = p.w_nv.col(l).data();
+      for (int k = 0; k < p.n; ++k) {
+        const TangentialDerivative& d = dT[k];
+        tu[k] =
+            d.u_plus >= 0 && d.u_plus != d.u_minus ? params.kt * (s[d.u_plus] - s[d.u_minus]) : 0.0;
+        tv[k] = d.v_index >= 0 && d.dv != 0.0 ? d.dv * s[d.v_index] : 0.0;
+        nv[k] = dN[k] * s[k];
+      }
+    }
     p.Analyse(p.w_tu, &out->dt_du);
     p.Analyse(p.w_tv, &out->dt_dv);
     p.Analyse(p.w_nv, &out->dn_dv);
   }
-  if (derivatives.alpha) out->dt_dalpha.noalias() = p.analysis_t.transpose() * p.g;
+  if (derivatives.alpha) {
+    for (int k = 0; k < p.n; ++k) p.g[k] = out->law.dT[k].dalpha;
+    out->dt_dalpha.noalias() = p.analysis_t.transpose() * p.g;
+  }
 }
 
 }  // namespace fricrom

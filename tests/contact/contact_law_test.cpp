@@ -97,6 +97,40 @@ TEST(ContactLaw, RejectsBadInput) {
   EXPECT_THROW(EvaluateContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
 }
 
+// The law stops its second period where it starts repeating the first: T, N and the states
+// must equal plain stepping through both periods bit for bit, in every regime.
+TEST(ContactLaw, SecondPeriodEqualsPlainSteppingBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int events_seen = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Eigen::VectorXd u(kSamples), v(kSamples);
+    const double ua = 4e-4 * std::abs(unit(rng)), v0 = 2e-4 * unit(rng) + 1e-4;
+    const double va = 2e-4 * std::abs(unit(rng));
+    for (int k = 0; k < kSamples; ++k) {
+      const double th = 2 * std::numbers::pi * k / kSamples;
+      u[k] = ua * (std::cos(th) + 0.3 * std::sin(3 * th)) + 1e-6 * unit(rng);
+      v[k] = v0 + va * std::cos(th + 0.5);
+    }
+    const double alpha = unit(rng);
+    ContactLawResult r;
+    EvaluateContactLaw(kParams, u, v, alpha, trial % 2 == 0, &r);
+    const double n0 = std::max(kParams.normal_preload + kParams.kn * v[0], 0.0);
+    double t = alpha * kParams.mu * n0;
+    for (int step = 1; step < 2 * kSamples; ++step) {
+      const int k = step % kSamples, km1 = (step - 1) % kSamples;
+      const ContactStep s = AdvanceContact(kParams, t, u[k] - u[km1], v[k]);
+      t = s.tangential;
+      if (step < kSamples) continue;
+      events_seen += s.state != ContactState::kStick;
+      ASSERT_EQ(r.tangential[k], s.tangential) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(r.normal[k], s.normal) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(r.states[k], s.state) << "trial " << trial << " sample " << k;
+    }
+  }
+  EXPECT_GT(events_seen, 1000);  // slips and lift-offs were exercised, not only stick
+}
+
 // Exact sparse derivatives against central differences, sample by sample, in every regime.
 // Points where a perturbation flips a state are skipped (the law has kinks there).
 class ContactDerivatives : public ::testing::TestWithParam<std::tuple<double, double, double>> {};
