@@ -97,8 +97,9 @@ TEST(ContactLaw, RejectsBadInput) {
   EXPECT_THROW(EvaluateContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
 }
 
-// The law stops its second period where it starts repeating the first: T, N and the states
-// must equal plain stepping through both periods bit for bit, in every regime.
+// The returned period is the second of two stepped from the initial condition: T, N and the
+// states must equal plain stepping with AdvanceContact bit for bit, in every regime (a guard for
+// any shortcut through the law's loop).
 TEST(ContactLaw, SecondPeriodEqualsPlainSteppingBitForBit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
