@@ -22,9 +22,6 @@ void dgemm_(const char* transa, const char* transb, const int* m, const int* n, 
 void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a,
             const int* lda, const double* x, const int* incx, const double* beta, double* y,
             const int* incy, std::size_t);
-void sgemv_(const char* trans, const int* m, const int* n, const float* alpha, const float* a,
-            const int* lda, const float* x, const int* incx, const float* beta, float* y,
-            const int* incy, std::size_t);
 void zgemv_(const char* trans, const int* m, const int* n, const std::complex<double>* alpha,
             const std::complex<double>* a, const int* lda, const std::complex<double>* x,
             const int* incx, const std::complex<double>* beta, std::complex<double>* y,
@@ -32,31 +29,12 @@ void zgemv_(const char* trans, const int* m, const int* n, const std::complex<do
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
             const double* a, const int* lda, const double* beta, double* c, const int* ldc,
             std::size_t, std::size_t);
-void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
-void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
-             const int* ipiv, double* b, const int* ldb, int* info, std::size_t);
-void dgecon_(const char* norm, const int* n, const double* a, const int* lda, const double* anorm,
-             double* rcond, double* work, int* iwork, int* info, std::size_t);
-void sgetrf_(const int* m, const int* n, float* a, const int* lda, int* ipiv, int* info);
-void sgetrs_(const char* trans, const int* n, const int* nrhs, const float* a, const int* lda,
-             const int* ipiv, float* b, const int* ldb, int* info, std::size_t);
-void sgecon_(const char* norm, const int* n, const float* a, const int* lda, const float* anorm,
-             float* rcond, float* work, int* iwork, int* info, std::size_t);
 void dsygvd_(const int* itype, const char* jobz, const char* uplo, const int* n, double* a,
              const int* lda, double* b, const int* ldb, double* w, double* work, const int* lwork,
              int* iwork, const int* liwork, int* info, std::size_t, std::size_t);
 }
 
 namespace fricrom::dense {
-namespace {
-
-constexpr Eigen::Index kIntMax = std::numeric_limits<int>::max();
-
-bool FitsInt(Eigen::Index a, Eigen::Index b = 0, Eigen::Index c = 0) {
-  return a <= kIntMax && b <= kIntMax && c <= kIntMax;
-}
-
-}  // namespace
 
 Eigen::MatrixXd WeightedGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& d) {
   if (w.cols() != d.size()) throw std::invalid_argument("dense::WeightedGram: sizes differ");
@@ -147,175 +125,6 @@ Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen:
   dgemm_(transpose_a ? "T" : "N", transpose_b ? "T" : "N", &im, &in, &ik, &one, a.data(), &lda,
          b.data(), &ldb, &zero, c.data(), &im, 1, 1);
   return c;
-}
-
-void Lu::Compute(const Eigen::MatrixXd& a, LuPrecision precision) { Factor(a, false, precision); }
-
-void Lu::ComputeTransposed(const Eigen::MatrixXd& a, LuPrecision precision) {
-  Factor(a, true, precision);
-}
-
-void Lu::Factor(const Eigen::MatrixXd& a, bool transposed, LuPrecision precision) {
-  if (a.rows() != a.cols()) throw std::invalid_argument("dense::Lu: matrix is not square");
-  n_ = a.rows();
-  lapack_ = n_ >= kLapackMinSize && FitsInt(n_);
-  transposed_ = false;
-  single_ = false;
-  if (!lapack_) {
-    if (transposed) {
-      eigen_.compute(a.transpose());
-    } else {
-      eigen_.compute(a);
-    }
-    rcond_ = n_ == 0 ? 0.0 : eigen_.rcond();
-    if (!(rcond_ >= 0.0)) rcond_ = 0.0;  // NaN from an exactly zero pivot
-    return;
-  }
-  transposed_ = transposed;  // a itself is factorised; solves swap the transposition
-  // Unit columns: a(:, t) = d_t e_t. With T their set and A the rest, a(A, T) = 0, so
-  // a x = b splits into a(A, A) x_A = b_A and x_T = (b_T − a(T, A) x_A) / d.
-  active_.clear();
-  unit_.clear();
-  for (Eigen::Index c = 0; c < n_; ++c) {
-    const double d = a(c, c);
-    bool unit = d != 0.0 && std::isfinite(d);
-    for (Eigen::Index r = 0; unit && r < n_; ++r) unit = r == c || a(r, c) == 0.0;  // early exit
-    (unit ? unit_ : active_).push_back(c);
-  }
-  const double anorm = a.cwiseAbs().colwise().sum().maxCoeff();
-  rcond_ = 0.0;
-  if (!std::isfinite(anorm)) return;
-  const auto na = static_cast<Eigen::Index>(active_.size());
-  unit_diag_.resize(static_cast<Eigen::Index>(unit_.size()));
-  for (std::size_t k = 0; k < unit_.size(); ++k) unit_diag_[k] = a(unit_[k], unit_[k]);
-  if (unit_.empty()) {
-    factors_ = a;
-    coupling_.resize(0, na);
-  } else {
-    factors_.resize(na, na);
-    coupling_.resize(static_cast<Eigen::Index>(unit_.size()), na);
-    for (Eigen::Index k = 0; k < na; ++k) {  // column by column: contiguous reads
-      const auto col = a.col(active_[k]);
-      for (Eigen::Index i = 0; i < na; ++i) factors_(i, k) = col[active_[i]];
-      for (std::size_t i = 0; i < unit_.size(); ++i) coupling_(i, k) = col[unit_[i]];
-    }
-  }
-  single_ = precision == LuPrecision::kSingle && na > 0 &&
-            factors_.cwiseAbs().maxCoeff() < 0.5 * std::numeric_limits<float>::max() &&
-            (coupling_.size() == 0 ||
-             coupling_.cwiseAbs().maxCoeff() < 0.5 * std::numeric_limits<float>::max());
-  if (single_) {
-    coupling_single_ = coupling_.cast<float>();
-    coupling_.resize(0, 0);
-  } else {
-    coupling_single_.resize(0, 0);
-  }
-  double rcond_active = 1.0;
-  if (na > 0 && !FactorActive(&rcond_active)) return;
-  // An estimate for the block-triangular whole: the worse of the active block and the unit
-  // pivots relative to the matrix norm (a singularity guard, as the estimate of dgecon is).
-  rcond_ = rcond_active;
-  if (!unit_.empty()) rcond_ = std::min(rcond_, unit_diag_.cwiseAbs().minCoeff() / anorm);
-}
-
-bool Lu::FactorActive(double* rcond_active) {
-  const int n = static_cast<int>(factors_.rows());
-  pivots_.assign(static_cast<std::size_t>(n), 0);
-  int info = 0;
-  const double active_norm = factors_.cwiseAbs().colwise().sum().maxCoeff();
-  std::vector<int> iwork(static_cast<std::size_t>(n));
-  if (single_) {
-    factors_single_ = factors_.cast<float>();
-    factors_.resize(0, 0);
-    sgetrf_(&n, &n, factors_single_.data(), &n, pivots_.data(), &info);
-    if (info < 0) throw std::logic_error("dense::Lu: sgetrf rejected an argument");
-    if (info > 0) return false;  // exactly singular: rcond 0
-    std::vector<float> work(4 * static_cast<std::size_t>(n));
-    const auto norm = static_cast<float>(active_norm);
-    float rcond = 0.0F;
-    sgecon_("1", &n, factors_single_.data(), &n, &norm, &rcond, work.data(), iwork.data(), &info,
-            1);
-    *rcond_active = rcond;
-    return info == 0 && std::isfinite(rcond);
-  }
-  factors_single_.resize(0, 0);
-  dgetrf_(&n, &n, factors_.data(), &n, pivots_.data(), &info);
-  if (info < 0) throw std::logic_error("dense::Lu: dgetrf rejected an argument");
-  if (info > 0) return false;
-  std::vector<double> work(4 * static_cast<std::size_t>(n));
-  dgecon_("1", &n, factors_.data(), &n, &active_norm, rcond_active, work.data(), iwork.data(),
-          &info, 1);
-  return info == 0 && std::isfinite(*rcond_active);
-}
-
-Eigen::MatrixXd Lu::SolveActive(Eigen::MatrixXd b, bool transposed) const {
-  if (b.rows() == 0 || b.cols() == 0) return b;
-  if (!FitsInt(b.cols())) throw std::invalid_argument("dense::Lu::Solve: too many columns");
-  const int n = static_cast<int>(b.rows()), nrhs = static_cast<int>(b.cols());
-  int info = 0;
-  if (single_) {
-    Eigen::MatrixXf bs = b.cast<float>();
-    sgetrs_(transposed ? "T" : "N", &n, &nrhs, factors_single_.data(), &n, pivots_.data(),
-            bs.data(), &n, &info, 1);
-    if (info != 0) throw std::logic_error("dense::Lu: sgetrs rejected an argument");
-    return bs.cast<double>();
-  }
-  dgetrs_(transposed ? "T" : "N", &n, &nrhs, factors_.data(), &n, pivots_.data(), b.data(), &n,
-          &info, 1);
-  if (info != 0) throw std::logic_error("dense::Lu: dgetrs rejected an argument");
-  return b;
-}
-
-// a(T, A) v, or its transpose times v, in the factorisation's precision.
-Eigen::MatrixXd Lu::CouplingTimes(const Eigen::MatrixXd& v, bool transposed) const {
-  if (!single_) return Product(coupling_, transposed, v, false);
-  if (v.cols() != 1) {
-    const Eigen::MatrixXf vs = v.cast<float>();
-    if (transposed) return (coupling_single_.transpose() * vs).cast<double>();
-    return (coupling_single_ * vs).cast<double>();
-  }
-  const int m = static_cast<int>(coupling_single_.rows());
-  const int n = static_cast<int>(coupling_single_.cols()), one_i = 1;
-  const Eigen::VectorXf vs = v.col(0).cast<float>();
-  Eigen::VectorXf out(transposed ? n : m);
-  const float one = 1.0F, zero = 0.0F;
-  if (m > 0 && n > 0) {
-    sgemv_(transposed ? "T" : "N", &m, &n, &one, coupling_single_.data(), &m, vs.data(), &one_i,
-           &zero, out.data(), &one_i, 1);
-  } else {
-    out.setZero();
-  }
-  return out.cast<double>();
-}
-
-Eigen::MatrixXd Lu::Solve(const Eigen::MatrixXd& b, bool transposed) const {
-  if (b.rows() != n_) throw std::invalid_argument("dense::Lu::Solve: right-hand side size");
-  if (!lapack_) {
-    if (transposed) return eigen_.transpose().solve(b);
-    return eigen_.solve(b);
-  }
-  const bool t = transposed != transposed_;  // with respect to the factorised matrix
-  if (unit_.empty()) return SolveActive(b, t);
-  Eigen::MatrixXd x(n_, b.cols());
-  if (!t) {  // x_A = a_AA⁻¹ b_A, x_T = (b_T − a_TA x_A) / d
-    const Eigen::MatrixXd xa = SolveActive(b(active_, Eigen::all), false);
-    x(active_, Eigen::all) = xa;
-    x(unit_, Eigen::all) =
-        unit_diag_.cwiseInverse().asDiagonal() * (b(unit_, Eigen::all) - CouplingTimes(xa, false));
-  } else {  // y_T = c_T / d, y_A = a_AA⁻ᵀ (c_A − a_TAᵀ y_T)
-    const Eigen::MatrixXd yt = unit_diag_.cwiseInverse().asDiagonal() * b(unit_, Eigen::all);
-    x(unit_, Eigen::all) = yt;
-    x(active_, Eigen::all) = SolveActive(b(active_, Eigen::all) - CouplingTimes(yt, true), true);
-  }
-  return x;
-}
-
-Eigen::VectorXd Lu::Solve(const Eigen::VectorXd& b, bool transposed) const {
-  if (!lapack_ && b.size() == n_) {  // Eigen's vector kernels: bit-identical to before
-    if (transposed) return eigen_.transpose().solve(b);
-    return eigen_.solve(b);
-  }
-  return Solve(Eigen::MatrixXd(b), transposed);
 }
 
 bool SymmetricGeneralizedEigen(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m,

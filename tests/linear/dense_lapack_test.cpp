@@ -9,6 +9,7 @@
 #include <complex>
 #include <cstdlib>
 #include <stdexcept>
+#include <vector>
 
 #include "test_models.h"
 
@@ -68,6 +69,88 @@ TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
   Lu lu(a, LuPrecision::kSingle);
   lu.Compute(a);
   EXPECT_TRUE(lu.exact());
+  EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
+}
+
+// The condensed balance's pattern: columns that are unit outside a few "mean" rows (fully stuck
+// contacts' harmonics) among dense ones. Solves against the dense LU (both transpositions, both
+// ways of factorising), rcond against the exact value, and the split seen where LAPACK is used.
+Eigen::MatrixXd UnitOutsideRows(int n, int seed, std::vector<int>* split) {
+  Eigen::MatrixXd a = testing::SeededRandom(n, n, seed) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  const int m = n / 5;  // rows 0..m-1 play the mean rows
+  split->clear();
+  for (int c = m; c < n; c += 2) {  // every other column beyond them
+    const double d = a(c, c);
+    a.col(c).tail(n - m).setZero();
+    a(c, c) = d;
+    a(c, 0) = 0.0;  // column 0 meets the split rows nowhere (stuck contacts' mean unknowns)
+    split->push_back(c);
+  }
+  return a;
+}
+
+TEST_P(DenseLapackSizes, ColumnsUnitOutsideFewRowsAreEliminatedExactly) {
+  const int n = GetParam();
+  std::vector<int> split;
+  const Eigen::MatrixXd a = UnitOutsideRows(n, 21, &split);
+  const Eigen::MatrixXd b = testing::SeededRandom(n, 2, 22);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> ref(a);
+  const double exact = 1.0 / (a.cwiseAbs().colwise().sum().maxCoeff() *
+                              a.inverse().cwiseAbs().colwise().sum().maxCoeff());
+  const bool lapack = n >= kLapackMinSize;
+  for (const LuPrecision precision : {LuPrecision::kDouble, LuPrecision::kSingle}) {
+    for (const bool transposed : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "single " << (precision == LuPrecision::kSingle)
+                                        << " transposed " << transposed);
+      Lu lu;
+      if (transposed) {
+        lu.ComputeTransposed(a, precision);
+      } else {
+        lu.Compute(a, precision);
+      }
+      const Eigen::MatrixXd op = transposed ? Eigen::MatrixXd(a.transpose()) : a;
+      const double tol = lapack && precision == LuPrecision::kSingle ? 1e-5 : 1e-12;
+      EXPECT_LT((op * lu.Solve(b) - b).norm(), tol * b.norm() * a.norm());
+      EXPECT_LT((op.transpose() * lu.Solve(b, true) - b).norm(), tol * b.norm() * a.norm());
+      const Eigen::VectorXd v = b.col(1);
+      EXPECT_LT((op * lu.Solve(v) - v).norm(), tol * v.norm() * a.norm());
+      EXPECT_GT(lu.rcond(), 0.1 * exact);
+      EXPECT_LT(lu.rcond(), 10.0 * exact);
+      if (lapack) {  // every marked column split off, touching the m first rows only
+        EXPECT_EQ(lu.num_unit_columns(), static_cast<Eigen::Index>(split.size()));
+        EXPECT_EQ(lu.num_fill_rows(), n / 5);
+      } else {
+        EXPECT_EQ(lu.num_unit_columns(), 0);
+      }
+    }
+  }
+}
+
+// A split whose Schur complement is singular: the whole matrix is, and rcond says so.
+TEST_P(DenseLapackSizes, SingularSchurComplementHasTinyRcond) {
+  const int n = GetParam();
+  std::vector<int> split;
+  Eigen::MatrixXd a = UnitOutsideRows(n, 23, &split);
+  // a(:, 1) = a(:, 0) + a(:, s), s a split column: singular, and the split is unchanged.
+  a.col(1) = a.col(0) + a.col(split.front());
+  EXPECT_LT(Lu(a).rcond(), 1e-14);
+  EXPECT_LT(Lu(a, LuPrecision::kSingle).rcond(), 1e-6);
+}
+
+// Candidate columns that touch each other cannot all be split: a(S, S) must stay diagonal.
+TEST(DenseLu, CandidatesTouchingEachOtherStayInTheFactorisation) {
+  const int n = 120;
+  Eigen::MatrixXd a = testing::SeededRandom(n, n, 31) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  for (int c = 60; c < n; ++c) {  // sparse columns, each touching the next one's row
+    const double d = a(c, c);
+    a.col(c).setZero();
+    a(c, c) = d;
+    a(c == n - 1 ? 60 : c + 1, c) = 0.7;
+    a(c % 10, c) = 0.3;
+  }
+  const Lu lu(a);
+  EXPECT_EQ(lu.num_unit_columns(), 0);  // every candidate is touched by another
+  const Eigen::MatrixXd b = testing::SeededRandom(n, 1, 32);
   EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
 }
 
