@@ -101,6 +101,21 @@ void HarmonicReceptance::GTimes(int h, const Eigen::VectorXd& v, bool transposed
   out->tail(nr) = -w.imag();
 }
 
+Eigen::MatrixXcd HarmonicReceptance::GComplexColumns(int h, const std::vector<int>& cols) const {
+  if (h < 1 || h > harmonics_) {
+    throw std::invalid_argument("HarmonicReceptance::GComplexColumns: harmonic out of range");
+  }
+  const Eigen::MatrixXcd& g = g_complex_[h];
+  Eigen::MatrixXcd out(g.rows(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    if (cols[k] < 0 || cols[k] >= g.cols()) {
+      throw std::invalid_argument("HarmonicReceptance::GComplexColumns: column out of range");
+    }
+    out.col(static_cast<Eigen::Index>(k)) = g.col(cols[k]);
+  }
+  return out;
+}
+
 void HarmonicReceptance::SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof) {
   const int n = num_dofs();
   if (static_cast<int>(loads.size()) != harmonics_ + 1 || dof < 0 || dof >= n) {

@@ -55,6 +55,9 @@ class HarmonicReceptance {
   // complex form Ĝ_h = A + iB of G_h = [[A, B], [−B, A]] on v̂ = v_cos − i v_sin: half the memory
   // traffic of the real product (GMRES steps are bound by it).
   void GTimes(int h, const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const;
+  // The columns `cols` of Ĝ_h (h ≥ 1), for products restricted to the entries of v that can be
+  // non-zero (GTimes' convention: Ĝ_h v̂, and Ĝ_hᴴ ŵ for the transposed product's rows `cols`).
+  Eigen::MatrixXcd GComplexColumns(int h, const std::vector<int>& cols) const;
   // B_h x (relative displacements of a harmonic block).
   Eigen::VectorXd Relative(int h, const Eigen::VectorXd& x) const;
 
