@@ -115,17 +115,37 @@ void Lu::SplitColumns(const Eigen::MatrixXd& a) {
     return std::pair(nz.begin() + static_cast<std::ptrdiff_t>(nz_begin[c]),
                      nz.begin() + static_cast<std::ptrdiff_t>(nz_begin[c + 1]));
   };
-  for (Eigen::Index c = 0; c < n_; ++c) {
-    const auto [first, last] = rows_of(c);
-    for (auto r = first; r != last; ++r) touched[*r] = 1;
+  const auto count = [&](Eigen::Index c) {
+    return static_cast<Eigen::Index>(nz_begin[c + 1] - nz_begin[c]);
+  };
+  // S: the candidates with at most `most` entries that no such candidate touches, so a(S, S) is
+  // diagonal. Where the other columns are sparse too (banded models) they touch the sparsest
+  // ones, so the bound halves from n/2 while that splits off more columns.
+  const auto split_at = [&](Eigen::Index most) {
+    std::fill(touched.begin(), touched.end(), 0);
+    for (Eigen::Index c = 0; c < n_; ++c) {
+      if (count(c) > most) continue;
+      const auto [first, last] = rows_of(c);
+      for (auto r = first; r != last; ++r) touched[*r] = 1;
+    }
+    Eigen::Index ns = 0;
+    for (Eigen::Index c = 0; c < n_; ++c) ns += candidate[c] && count(c) <= most && !touched[c];
+    return ns;
+  };
+  Eigen::Index best = limit, ns = split_at(limit);
+  for (Eigen::Index most = limit / 2; most >= 1; most /= 2) {
+    const Eigen::Index tried = split_at(most);
+    if (tried > ns) {
+      best = most;
+      ns = tried;
+    }
   }
-  // S: the candidates no candidate touches, so a(S, S) is diagonal. The update it needs (2|M||S||R|
-  // flops) must cost less than the LU it saves ((2/3)(n³ − |R|³)); else only exactly unit columns.
-  Eigen::Index ns = 0, ns_unit = 0;
-  for (Eigen::Index c = 0; c < n_; ++c) {
-    ns += candidate[c] && !touched[c];
-    ns_unit += unit_only[c];
-  }
+  split_at(best);
+  for (Eigen::Index c = 0; c < n_; ++c) candidate[c] = candidate[c] && count(c) <= best;
+  // The update S needs (2|M||S||R| flops) must cost less than the LU it saves ((2/3)(n³ − |R|³));
+  // else only exactly unit columns are split off.
+  Eigen::Index ns_unit = 0;
+  for (Eigen::Index c = 0; c < n_; ++c) ns_unit += unit_only[c];
   std::vector<char> fill(static_cast<std::size_t>(n_), 0);
   Eigen::Index nm = 0;
   for (Eigen::Index c = 0; c < n_; ++c) {

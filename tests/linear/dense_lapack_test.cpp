@@ -11,6 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "fricrom/condensed_system.h"
+#include "fricrom/frf.h"
+#include "fricrom/units.h"
 #include "test_models.h"
 
 namespace fricrom::dense {
@@ -152,6 +155,40 @@ TEST(DenseLu, CandidatesTouchingEachOtherStayInTheFactorisation) {
   EXPECT_EQ(lu.num_unit_columns(), 0);  // every candidate is touched by another
   const Eigen::MatrixXd b = testing::SeededRandom(n, 1, 32);
   EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
+}
+
+// The real pattern: at a solution of the condensed balance with stuck and sliding contacts, the
+// dense Jacobian's columns of the stuck contacts' harmonics are split off (the exact zeros
+// EffectiveBlocks leaves are what makes them so), and the solves still match the dense LU.
+TEST(DenseLu, StuckContactsOfTheCondensedBalanceAreSplitOff) {
+  const CondensedSystem cond(testing::ContactStrip(40), HbmOptions{1, 64});
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(cond.num_contacts(), -0.8, 0.8);
+  const double f = 1000.0;
+  const FrfPoint sol = SolveAtFrequency(cond, alpha, f, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(sol.status, SolverStatus::kConverged);
+  int stuck = 0;
+  for (const ContactRegime r : cond.ContactRegimes(sol.x, kTwoPi * f, alpha)) {
+    stuck += r == ContactRegime::kFullStick;
+  }
+  ASSERT_GT(stuck, 0);
+  ASSERT_LT(stuck, cond.num_contacts());
+  HbmEvaluation e;
+  HbmRequest req;
+  req.jacobian = true;
+  cond.Evaluate(sol.x, kTwoPi * f, alpha, req, &e);
+  ASSERT_GE(e.jacobian.rows(), kLapackMinSize);
+  const Eigen::MatrixXd b = testing::SeededRandom(e.jacobian.rows(), 2, 51);
+  const double scale = b.norm() * e.jacobian.norm();
+  for (const LuPrecision precision : {LuPrecision::kDouble, LuPrecision::kSingle}) {
+    const Lu lu(e.jacobian, precision);
+    // Two harmonic coefficients of each stuck tangential row at least, minus shared rows.
+    EXPECT_GE(lu.num_unit_columns(), stuck);
+    EXPECT_GT(lu.num_fill_rows(), 0) << lu.num_unit_columns() << " " << stuck << " " << lu.rows();
+    const double tol = precision == LuPrecision::kSingle ? 1e-5 : 1e-12;
+    EXPECT_LT((e.jacobian * lu.Solve(b) - b).norm(), tol * scale);
+    EXPECT_LT((e.jacobian.transpose() * lu.Solve(b, true) - b).norm(), tol * scale);
+    EXPECT_GT(lu.rcond(), 0.0);
+  }
 }
 
 TEST_P(DenseLapackSizes, WeightedGramMatchesTheGeneralProduct) {
