@@ -17,6 +17,10 @@
 #include "fricrom/reduction.h"
 #include "fricrom/units.h"
 
+extern "C" void dsyevd_(const char* jobz, const char* uplo, const int* n, double* a, const int* lda,
+                        double* w, double* work, const int* lwork, int* iwork, const int* liwork,
+                        int* info, std::size_t, std::size_t);
+
 namespace fricrom {
 namespace {
 
@@ -71,12 +75,31 @@ KM Grid(int nx, int ny, bool grounded) {
   return out;
 }
 
+// Eigenvalues (ascending) of a symmetric matrix (lower triangle read) by LAPACK's dsyevd: the
+// dense references of the n = 2000 grid, 10x faster than Eigen's solver and not instrumented in
+// the sanitizer build (Eigen's took 18 of its 20 s there). Empty if LAPACK fails.
+Eigen::VectorXd SymmetricEigenvalues(Eigen::MatrixXd a) {
+  const int n = static_cast<int>(a.rows());
+  Eigen::VectorXd w(n);
+  int info = 0, lwork = -1, liwork = -1, iwork_query = 0;
+  double work_query = 0.0;
+  dsyevd_("N", "L", &n, a.data(), &n, w.data(), &work_query, &lwork, &iwork_query, &liwork, &info,
+          1, 1);
+  if (info != 0) return {};
+  lwork = static_cast<int>(work_query);
+  liwork = iwork_query;
+  std::vector<double> work(static_cast<std::size_t>(lwork));
+  std::vector<int> iwork(static_cast<std::size_t>(liwork));
+  dsyevd_("N", "L", &n, a.data(), &n, w.data(), work.data(), &lwork, iwork.data(), &liwork, &info,
+          1, 1);
+  if (info != 0) return {};
+  return w;
+}
+
 // Eigenvalues (ascending) of K x = lambda M x, M diagonal positive: M^-1/2 K M^-1/2.
 Eigen::VectorXd LumpedEigenvalues(const SpMat& k, const SpMat& m) {
   const Eigen::VectorXd s = Eigen::VectorXd(m.diagonal()).cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd a = s.asDiagonal() * Eigen::MatrixXd(k) * s.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(a, Eigen::EigenvaluesOnly);
-  return es.eigenvalues();
+  return SymmetricEigenvalues(s.asDiagonal() * Eigen::MatrixXd(k) * s.asDiagonal());
 }
 
 Eigen::VectorXd DenseGeneralisedEigenvalues(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m) {
@@ -206,14 +229,14 @@ TEST(CraigBampton, SparseGridLowModesMatchFullModel) {
       for (Eigen::Index c = 0; c < ni; ++c) kid(r, c) = kd(interior[r], interior[c]);
     }
     const Eigen::VectorXd s = mid.cwiseSqrt().cwiseInverse();
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(s.asDiagonal() * kid * s.asDiagonal(),
-                                                      Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd dense = SymmetricEigenvalues(s.asDiagonal() * kid * s.asDiagonal());
+    ASSERT_EQ(dense.size(), ni);
     int below = 0;
-    for (Eigen::Index j = 0; j < ni; ++j) below += ToHz(es.eigenvalues()(j)) <= opt.cutoff_hz;
+    for (Eigen::Index j = 0; j < ni; ++j) below += ToHz(dense(j)) <= opt.cutoff_hz;
     EXPECT_EQ(below, sum.modes);
     double worst = 0;
     for (int j = 0; j < sum.modes; ++j)
-      worst = std::max(worst, std::abs(sum.frequencies_hz[j] / ToHz(es.eigenvalues()(j)) - 1.0));
+      worst = std::max(worst, std::abs(sum.frequencies_hz[j] / ToHz(dense(j)) - 1.0));
     std::cout << "fixed-interface frequencies vs dense: max rel err " << worst << "\n";
     EXPECT_LE(worst, 1e-10);
   }
