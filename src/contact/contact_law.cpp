@@ -1,6 +1,8 @@
 #include "fricrom/contact_law.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -59,11 +61,10 @@ ContactStep AdvanceContact(const ContactLawParams& p, double tangential_prev,
   return out;
 }
 
-void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
-                        const Eigen::VectorXd& v, double alpha, bool with_derivatives,
-                        ContactLawResult* result) {
-  const int n = static_cast<int>(u.size());
-  if (n < 2 || v.size() != n) {
+namespace {
+
+void CheckLawInputs(const Eigen::VectorXd& u, const Eigen::VectorXd& v, double alpha) {
+  if (u.size() < 2 || v.size() != u.size()) {
     throw std::invalid_argument("EvaluateContactLaw: u and v need the same length >= 2 (got " +
                                 std::to_string(u.size()) + " and " + std::to_string(v.size()) +
                                 ")");
@@ -72,6 +73,61 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
     throw std::invalid_argument("EvaluateContactLaw: alpha must lie in [-1, 1], got " +
                                 std::to_string(alpha));
   }
+}
+
+}  // namespace
+
+bool EvaluateStuckContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
+                             const Eigen::VectorXd& v, double alpha, bool with_derivatives,
+                             ContactLawResult* result) {
+  CheckLawInputs(u, v, alpha);
+  const int n = static_cast<int>(u.size());
+  const double n0 = p.normal_preload + p.kn * v[0];
+  if (!(n0 > 0.0)) return false;
+  const double t0 = alpha * p.mu * n0;
+  // The sequential law sums up to 2n increments kt (u_k − u_{k−1}) from T(0): its T_k differs
+  // from t0 + kt (u_k − u_0) by at most ~2n·eps times the largest force along the path. A sample
+  // whose T_k lies within AdvanceContact's limit μN (1 + 1e-12) by more than that sticks in
+  // both (α = ±1 included: T_0 = ±μN(0)); samples closer to the limit go to the full law.
+  double scale = std::abs(t0);
+  for (int k = 0; k < n; ++k) {
+    const double nk = p.normal_preload + p.kn * v[k];
+    if (!(nk > 0.0)) return false;
+    scale = std::max({scale, p.mu * nk, std::abs(p.kt * (u[k] - u[0]))});
+  }
+  const double margin = 16.0 * n * std::numeric_limits<double>::epsilon() * scale;
+  for (int k = 0; k < n; ++k) {
+    const double tk = t0 + p.kt * (u[k] - u[0]);
+    const double limit = p.mu * (p.normal_preload + p.kn * v[k]) * (1.0 + 1e-12);
+    if (!(std::abs(tk) <= limit - margin)) return false;
+  }
+  ContactLawResult& r = *result;
+  r.tangential.resize(n);
+  r.normal.resize(n);
+  r.states.assign(n, ContactState::kStick);
+  for (int k = 0; k < n; ++k) {
+    r.tangential[k] = t0 + p.kt * (u[k] - u[0]);
+    r.normal[k] = p.normal_preload + p.kn * v[k];
+  }
+  if (with_derivatives) {
+    // As EvaluateContactLaw's stick samples anchored at the initial instant (sample 0).
+    TangentialDerivative d;
+    d.u_minus = 0;
+    d.v_index = 0;
+    d.dv = alpha * p.mu * p.kn;
+    d.dalpha = p.mu * n0;
+    r.dT.assign(n, d);
+    for (int k = 0; k < n; ++k) r.dT[k].u_plus = k;
+    r.dN_dv.setConstant(n, p.kn);
+  }
+  return true;
+}
+
+void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
+                        const Eigen::VectorXd& v, double alpha, bool with_derivatives,
+                        ContactLawResult* result) {
+  CheckLawInputs(u, v, alpha);
+  const int n = static_cast<int>(u.size());
   ContactLawResult& r = *result;
   r.tangential.resize(n);
   r.normal.resize(n);

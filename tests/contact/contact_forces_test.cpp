@@ -121,6 +121,46 @@ TEST_P(AftRoutes, DerivativesMatchCentralDifferences) {
   }
 }
 
+// A contact stuck over the whole period takes the closed form (T and N linear in the samples):
+// its coefficients equal the Fourier sums of the sequential law's samples, its derivative blocks
+// central differences, and the harmonics h ≥ 1 of T − kt u and N − kn v vanish exactly.
+TEST_P(AftRoutes, StuckContactsTakeTheClosedForm) {
+  const int harmonics = GetParam(), nh = 2 * harmonics + 1;
+  const AftContactForces aft(HbmOptions{harmonics, 64});
+  Eigen::VectorXd uh, vh, t, n;
+  Motion(harmonics, &uh, &vh);
+  uh *= 0.01;
+  vh *= 0.01;
+  for (const double alpha : {-0.3, 0.6}) {
+    ContactForceBlocks d, p, m;
+    aft.Evaluate(kPreloaded, uh, vh, alpha, AftDerivatives{true, true}, &d);
+    ASSERT_EQ(ClassifyRegime(d.law.states), ContactRegime::kFullStick) << alpha;
+    NaiveAft(uh, vh, alpha, 64, &t, &n);
+    EXPECT_LT((d.t - t).norm(), 1e-12 * t.norm()) << alpha;
+    EXPECT_LT((d.n - n).norm(), 1e-12 * n.norm()) << alpha;
+    EXPECT_EQ((d.t - kPreloaded.kt * uh).tail(nh - 1).cwiseAbs().maxCoeff(), 0.0) << alpha;
+    EXPECT_EQ((d.n - kPreloaded.kn * vh).tail(nh - 1).cwiseAbs().maxCoeff(), 0.0) << alpha;
+    const double step = 1e-13;
+    for (int l = 0; l < nh; ++l) {
+      Eigen::VectorXd up = uh, um = uh, vp = vh, vm = vh;
+      up[l] += step;
+      um[l] -= step;
+      aft.Evaluate(kPreloaded, up, vh, alpha, AftDerivatives{}, &p);
+      aft.Evaluate(kPreloaded, um, vh, alpha, AftDerivatives{}, &m);
+      EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_du.col(l)).norm(), 1e-3 * kPreloaded.kt) << l;
+      vp[l] += step;
+      vm[l] -= step;
+      aft.Evaluate(kPreloaded, uh, vp, alpha, AftDerivatives{}, &p);
+      aft.Evaluate(kPreloaded, uh, vm, alpha, AftDerivatives{}, &m);
+      EXPECT_LT(((p.t - m.t) / (2 * step) - d.dt_dv.col(l)).norm(), 1e-3 * kPreloaded.kn) << l;
+      EXPECT_LT(((p.n - m.n) / (2 * step) - d.dn_dv.col(l)).norm(), 1e-3 * kPreloaded.kn) << l;
+    }
+    aft.Evaluate(kPreloaded, uh, vh, alpha + 1e-7, AftDerivatives{}, &p);
+    aft.Evaluate(kPreloaded, uh, vh, alpha - 1e-7, AftDerivatives{}, &m);
+    EXPECT_LT(((p.t - m.t) / 2e-7 - d.dt_dalpha).norm(), 1e-6 * d.dt_dalpha.norm());
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(DirectAndFftw, AftRoutes, ::testing::Values(1, 3, 7, 8, 12));
 
 // The same motion (harmonics above 7 zero) through the direct route at H = 7 and FFTW at H = 8:

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -95,6 +96,70 @@ TEST(ContactLaw, RejectsBadInput) {
   v.resize(8);
   v.setZero();
   EXPECT_THROW(EvaluateContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
+}
+
+// The closed form for a contact stuck over the whole period (EvaluateStuckContactLaw) against the
+// sequential law on random motions that stick, slip near the limit, graze it (α = ±1 puts T(0)
+// on it) or lift off: where the closed form answers, the law sticks at every sample too and
+// both give the same forces and derivatives; where the law sticks from the initial instant on,
+// clear of the limit, the closed form answers.
+TEST(ContactLaw, StuckClosedFormAgreesWithTheSequentialLaw) {
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const ContactLawParams preloaded{3e5, 2e5, 0.5, 2.0};
+  int answered = 0, declined_stuck = 0, at_limit = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    // Amplitudes from far inside the stick range (~5e-7 m) to beyond it.
+    const double scale = std::pow(10.0, -7.5 + 2.0 * (trial % 100) / 100.0);
+    const double alpha = trial % 5 == 0 ? (trial % 10 == 0 ? 1.0 : -1.0) : unit(gen);
+    // α = ±1: T(0) on the limit; u(0) the extreme of u on the side that moves T inwards and a
+    // nearly constant normal load, so that most of these stick (a slip would follow at once
+    // otherwise).
+    const double u1 = scale * (1 + unit(gen)), v1 = scale * (1 + unit(gen));
+    Eigen::VectorXd u, v;
+    Harmonic(unit(gen) * scale, std::abs(alpha) == 1.0 ? alpha * u1 : u1, 3 * unit(gen),
+             unit(gen) * 4e-6, std::abs(alpha) == 1.0 ? 1e-3 * v1 : v1, &u, &v);
+    ContactLawResult law, fast;
+    EvaluateContactLaw(preloaded, u, v, alpha, true, &law);
+    const bool stuck = ClassifyRegime(law.states) == ContactRegime::kFullStick;
+    if (!EvaluateStuckContactLaw(preloaded, u, v, alpha, true, &fast)) {
+      if (!stuck) continue;
+      // Declined although the law sticks over the returned period: it slipped in the first
+      // (its stick anchor is not the initial instant), or T comes within 1e-9 of the limit.
+      ++declined_stuck;
+      bool anchored_later = false;
+      double closest = INFINITY;
+      for (int k = 0; k < kSamples; ++k) {
+        anchored_later = anchored_later || law.dT[k].u_minus != 0;
+        closest = std::min(closest, preloaded.mu * law.normal[k] - std::abs(law.tangential[k]));
+      }
+      EXPECT_TRUE(anchored_later || closest < 1e-9 * preloaded.mu * law.normal.maxCoeff()) << trial;
+      continue;
+    }
+    ++answered;
+    at_limit += std::abs(alpha) == 1.0;
+    ASSERT_TRUE(stuck) << trial;
+    ASSERT_EQ(fast.states, law.states) << trial;
+    const double tscale = law.tangential.cwiseAbs().maxCoeff() + preloaded.normal_preload;
+    EXPECT_LT((fast.tangential - law.tangential).cwiseAbs().maxCoeff(), 1e-12 * tscale) << trial;
+    EXPECT_LT((fast.normal - law.normal).cwiseAbs().maxCoeff(), 1e-12 * tscale) << trial;
+    EXPECT_EQ(fast.dN_dv, law.dN_dv);
+    for (int k = 0; k < kSamples; ++k) {
+      const TangentialDerivative &a = fast.dT[k], &b = law.dT[k];
+      EXPECT_EQ(a.u_plus, b.u_plus);
+      EXPECT_EQ(a.u_minus, b.u_minus);
+      EXPECT_EQ(a.v_index, b.v_index);
+      EXPECT_NEAR(a.dv, b.dv, 1e-12 * preloaded.mu * preloaded.kn);
+      EXPECT_NEAR(a.dalpha, b.dalpha, 1e-12 * tscale);
+    }
+  }
+  EXPECT_GT(answered, 200);
+  EXPECT_GT(at_limit, 20);  // α = ±1: T(0) on the limit, still the closed form
+  std::printf("[stuck closed form] %d of 2000 answered (%d at alpha = +-1), %d stuck declined\n",
+              answered, at_limit, declined_stuck);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(8), v = Eigen::VectorXd::Zero(8);
+  ContactLawResult r;
+  EXPECT_THROW(EvaluateStuckContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
 }
 
 // The returned period is the second of two stepped from the initial condition: T, N and the
