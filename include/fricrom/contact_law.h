@@ -70,8 +70,8 @@ void EvaluateContactLaw(const ContactLawParams& params, const Eigen::VectorXd& u
 // T_k = α μ N(0) + kt (u_k − u_0) with no history to follow. Returns true and fills `result` as
 // EvaluateContactLaw does (T to round-off, states, derivatives) when N > 0 at every sample and
 // every T_k lies inside the friction limit by a margin that the sequential law's accumulated
-// round-off cannot cross (so both classify every sample alike); false, with `result` untouched,
-// otherwise — the caller then evaluates the full law. Throws as EvaluateContactLaw.
+// round-off cannot cross (so both classify every sample alike); false otherwise, with `result`
+// partly written — the caller then evaluates the full law into it. Throws as EvaluateContactLaw.
 bool EvaluateStuckContactLaw(const ContactLawParams& params, const Eigen::VectorXd& u,
                              const Eigen::VectorXd& v, double alpha, bool with_derivatives,
                              ContactLawResult* result);

@@ -89,26 +89,23 @@ bool EvaluateStuckContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u
   // from t0 + kt (u_k − u_0) by at most ~2n·eps times the largest force along the path. A sample
   // whose T_k lies within AdvanceContact's limit μN (1 + 1e-12) by more than that sticks in
   // both (α = ±1 included: T_0 = ±μN(0)); samples closer to the limit go to the full law.
-  double scale = std::abs(t0);
-  for (int k = 0; k < n; ++k) {
-    const double nk = p.normal_preload + p.kn * v[k];
-    if (!(nk > 0.0)) return false;
-    scale = std::max({scale, p.mu * nk, std::abs(p.kt * (u[k] - u[0]))});
-  }
-  const double margin = 16.0 * n * std::numeric_limits<double>::epsilon() * scale;
-  for (int k = 0; k < n; ++k) {
-    const double tk = t0 + p.kt * (u[k] - u[0]);
-    const double limit = p.mu * (p.normal_preload + p.kn * v[k]) * (1.0 + 1e-12);
-    if (!(std::abs(tk) <= limit - margin)) return false;
-  }
+  // One pass: the samples are written as they are tested (the caller overwrites them if not).
   ContactLawResult& r = *result;
   r.tangential.resize(n);
   r.normal.resize(n);
-  r.states.assign(n, ContactState::kStick);
+  double scale = std::abs(t0), slack = std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) {
-    r.tangential[k] = t0 + p.kt * (u[k] - u[0]);
-    r.normal[k] = p.normal_preload + p.kn * v[k];
+    const double nk = p.normal_preload + p.kn * v[k];
+    if (!(nk > 0.0)) return false;
+    const double dt = p.kt * (u[k] - u[0]), tk = t0 + dt, limit = p.mu * nk;
+    r.tangential[k] = tk;
+    r.normal[k] = nk;
+    scale = std::max(scale, std::max(limit, std::abs(dt)));
+    const double s = limit * (1.0 + 1e-12) - std::abs(tk);
+    if (!(s >= slack)) slack = s;  // NaN sticks
   }
+  if (!(slack >= 16.0 * n * std::numeric_limits<double>::epsilon() * scale)) return false;
+  r.states.assign(n, ContactState::kStick);
   if (with_derivatives) {
     // As EvaluateContactLaw's stick samples anchored at the initial instant (sample 0).
     TangentialDerivative d;
