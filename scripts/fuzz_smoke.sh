@@ -11,7 +11,7 @@ if ! command -v clang++ > /dev/null; then
 fi
 out=build-fuzz
 mkdir -p "$out"
-common=(-std=c++20 -g -O1 -fno-sanitize-recover=all -Iinclude -Isrc -isystem /usr/include/eigen3)
+common=(-std=c++20 -g1 -O1 -fno-sanitize-recover=all -Iinclude -Isrc -isystem /usr/include/eigen3)
 # The FE readers only: the HDF5 writer/reader is not fed untrusted text and would need libhdf5.
 readers=()
 for f in src/io/*.cpp; do [[ $f == src/io/hdf5_file.cpp ]] || readers+=("$f"); done

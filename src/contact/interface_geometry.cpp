@@ -21,14 +21,14 @@ using Vec3 = Eigen::Vector3d;
 
 [[noreturn]] void Throw(const std::string& what) { throw std::invalid_argument(what); }
 
-std::string Num(double v) {
+std::string FormatG9(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
 }
 
 std::string Point(const Vec3& x) {
-  return "(" + Num(x[0]) + ", " + Num(x[1]) + ", " + Num(x[2]) + ")";
+  return "(" + FormatG9(x[0]) + ", " + FormatG9(x[1]) + ", " + FormatG9(x[2]) + ")";
 }
 
 std::string Source(const FeModel& m) { return m.source.empty() ? "" : " (" + m.source + ")"; }
@@ -284,7 +284,7 @@ std::string DescribeUnmatched(const Placed& p, const std::vector<Placed>& other,
     if (dj < d) d = dj, best = j;
   }
   return "node " + std::to_string(p.id) + " at " + Point(p.x) + ", nearest node of " + other_side +
-         ": " + std::to_string(other[best].id) + " at " + Num(d) + " m";
+         ": " + std::to_string(other[best].id) + " at " + FormatG9(d) + " m";
 }
 
 constexpr size_t kMaxListed = 10;
@@ -295,7 +295,7 @@ constexpr size_t kMaxListed = 10;
   std::string msg = "PairNodesByCoordinates: " + std::to_string(lost_a.size()) + " of " +
                     std::to_string(a.size()) + " nodes of side a and " +
                     std::to_string(lost_b.size()) + " of " + std::to_string(b.size()) +
-                    " nodes of side b have no partner within the tolerance " + Num(tolerance) +
+                    " nodes of side b have no partner within the tolerance " + FormatG9(tolerance) +
                     " m (coordinates after the placements):";
   for (size_t k = 0; k < lost_a.size() && k < kMaxListed; ++k) {
     msg += "\n  side a " + DescribeUnmatched(a[lost_a[k]], b, "side b");
@@ -337,7 +337,7 @@ bool RigidTransform::IsValid(std::string* error) const {
                                     .cwiseAbs()
                                     .maxCoeff();
              off > 1e-9) {
-    why = "rotation is not orthonormal (|R^T R - I| = " + Num(off) + " > 1e-9)";
+    why = "rotation is not orthonormal (|R^T R - I| = " + FormatG9(off) + " > 1e-9)";
   } else if (rotation.determinant() < 0) {
     why = "rotation has determinant -1 (a reflection)";
   }
@@ -440,7 +440,8 @@ std::vector<NodePair> PairNodesByCoordinates(const FeModel& model_a,
                                              const std::vector<int64_t>& nodes_b,
                                              const RigidTransform& place_b, double tolerance) {
   if (!(tolerance > 0) || !std::isfinite(tolerance)) {
-    Throw("PairNodesByCoordinates: the tolerance must be > 0 and finite, got " + Num(tolerance));
+    Throw("PairNodesByCoordinates: the tolerance must be > 0 and finite, got " +
+          FormatG9(tolerance));
   }
   const std::vector<Placed> a = PlaceNodes(model_a, nodes_a, place_a, "side a" + Source(model_a));
   const std::vector<Placed> b = PlaceNodes(model_b, nodes_b, place_b, "side b" + Source(model_b));
@@ -478,7 +479,7 @@ std::vector<NodePair> PairNodesByCoordinates(const FeModel& model_a,
   }
   if (num_twice > 0) {
     Throw("PairNodesByCoordinates: " + std::to_string(num_twice) +
-          " nodes are not one-to-one within the tolerance " + Num(tolerance) +
+          " nodes are not one-to-one within the tolerance " + FormatG9(tolerance) +
           " m (a smaller tolerance separates them):" + twice);
   }
   std::vector<size_t> lost_b;

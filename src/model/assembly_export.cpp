@@ -24,7 +24,7 @@ struct Place {
   int component = 0;
 };
 
-std::string Num(double v) {
+std::string TomlFloat(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   std::string s(buf);
@@ -136,27 +136,30 @@ std::string ExportAssembly(const Case& c, const std::string& directory) {
     }
     t << "\n[[contacts]]\nname = \"" << ct.name << "\"\na = { body = \"" << a.body
       << "\", node = " << a.node << " }\nb = { body = \"" << b.body << "\", node = " << b.node
-      << " }\nnormal = [" << Num(n[0]) << ", " << Num(n[1]) << ", " << Num(n[2]) << "]\n"
-      << "tangent = [" << Num(tg[0]) << ", " << Num(tg[1]) << ", " << Num(tg[2]) << "]\n"
-      << "kn = " << Num(ct.kn) << "\nkt = " << Num(ct.kt) << "\nmu = " << Num(ct.mu)
-      << "\nnormal_preload = " << Num(ct.normal_preload) << "\n";
+      << " }\nnormal = [" << TomlFloat(n[0]) << ", " << TomlFloat(n[1]) << ", " << TomlFloat(n[2])
+      << "]\n"
+      << "tangent = [" << TomlFloat(tg[0]) << ", " << TomlFloat(tg[1]) << ", " << TomlFloat(tg[2])
+      << "]\n"
+      << "kn = " << TomlFloat(ct.kn) << "\nkt = " << TomlFloat(ct.kt)
+      << "\nmu = " << TomlFloat(ct.mu) << "\nnormal_preload = " << TomlFloat(ct.normal_preload)
+      << "\n";
   }
   for (const HarmonicLoad& l : m.loads) {
     for (int d = 0; d < m.num_dofs(); ++d) {
       if (l.cos[d] == 0.0 && l.sin[d] == 0.0) continue;
       t << "\n[[loads]]\nbody = \"" << at[d].body << "\"\nnode = " << at[d].node
         << "\ncomponent = " << at[d].component << "\nharmonic = " << l.harmonic
-        << "\ncos = " << Num(l.cos[d]) << "\nsin = " << Num(l.sin[d]) << "\n";
+        << "\ncos = " << TomlFloat(l.cos[d]) << "\nsin = " << TomlFloat(l.sin[d]) << "\n";
     }
   }
   const Place& r = at[m.response_dof];
   t << "\n[response]\nbody = \"" << r.body << "\"\nnode = " << r.node
     << "\ncomponent = " << r.component << "\n\n[analysis]\nharmonics = " << c.analysis.harmonics
     << "\nsamples_per_period = " << c.analysis.samples_per_period
-    << "\nfreq_min_hz = " << Num(c.analysis.freq_min_hz)
-    << "\nfreq_max_hz = " << Num(c.analysis.freq_max_hz) << "\nalpha = [";
+    << "\nfreq_min_hz = " << TomlFloat(c.analysis.freq_min_hz)
+    << "\nfreq_max_hz = " << TomlFloat(c.analysis.freq_max_hz) << "\nalpha = [";
   for (size_t i = 0; i < c.analysis.alpha.size(); ++i) {
-    t << (i ? ", " : "") << Num(c.analysis.alpha[i]);
+    t << (i ? ", " : "") << TomlFloat(c.analysis.alpha[i]);
   }
   t << "]\nbalance = \"condensed\"\n";
   const fs::path path = dir / "case.toml";

@@ -25,7 +25,7 @@ double Seconds(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::string Num(double v) {
+std::string FormatG6(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
@@ -142,7 +142,7 @@ InteriorModes ComputeInteriorModes(const Eigen::SparseMatrix<double>& kii,
     out.count_below_cutoff = count;
     if (count > first) {
       const std::string share = std::to_string(count) + " of the " + std::to_string(ni) +
-                                " interior modes lie below the cutoff " + Num(o.cutoff_hz) +
+                                " interior modes lie below the cutoff " + FormatG6(o.cutoff_hz) +
                                 " Hz (Sylvester count)";
       if (large(count + 1)) return fallback(share + ", more than Lanczos delivers efficiently");
       r = Arpack(op, count + 1, o, &out);

@@ -32,7 +32,7 @@ double MaxAbsDiag(const Eigen::SparseMatrix<double>& a) {
   return m;
 }
 
-double MaxAbs(const Eigen::MatrixXd& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
+double MaxAbsEntry(const Eigen::MatrixXd& a) { return a.size() ? a.cwiseAbs().maxCoeff() : 0.0; }
 
 void CheckFinite(const Eigen::SparseMatrix<double>& a, const char* what) {
   for (int k = 0; k < a.outerSize(); ++k) {
@@ -332,22 +332,22 @@ CraigBamptonChecks CheckCraigBamptonMatrices(const Eigen::MatrixXd& k, const Eig
   }
   const int n = static_cast<int>(k.rows()), nq = n - nb;
   CraigBamptonChecks ch;
-  const double kmax = MaxAbs(k), mmax = MaxAbs(m);
-  ch.stiffness_symmetry = kmax > 0 ? MaxAbs(Eigen::MatrixXd(k - k.transpose())) / kmax : 0.0;
-  ch.mass_symmetry = mmax > 0 ? MaxAbs(Eigen::MatrixXd(m - m.transpose())) / mmax : 0.0;
+  const double kmax = MaxAbsEntry(k), mmax = MaxAbsEntry(m);
+  ch.stiffness_symmetry = kmax > 0 ? MaxAbsEntry(Eigen::MatrixXd(k - k.transpose())) / kmax : 0.0;
+  ch.mass_symmetry = mmax > 0 ? MaxAbsEntry(Eigen::MatrixXd(m - m.transpose())) / mmax : 0.0;
   if (nq > 0 && nb > 0) {
-    ch.stiffness_coupling =
-        kmax > 0
-            ? std::max(MaxAbs(k.topRightCorner(nb, nq)), MaxAbs(k.bottomLeftCorner(nq, nb))) / kmax
-            : 0.0;
+    ch.stiffness_coupling = kmax > 0 ? std::max(MaxAbsEntry(k.topRightCorner(nb, nq)),
+                                                MaxAbsEntry(k.bottomLeftCorner(nq, nb))) /
+                                           kmax
+                                     : 0.0;
   }
   if (nq > 0) {
     const Eigen::MatrixXd mqq = m.bottomRightCorner(nq, nq);
-    ch.modal_mass = MaxAbs(Eigen::MatrixXd(mqq - Eigen::MatrixXd::Identity(nq, nq)));
+    ch.modal_mass = MaxAbsEntry(Eigen::MatrixXd(mqq - Eigen::MatrixXd::Identity(nq, nq)));
     Eigen::MatrixXd kqq = k.bottomRightCorner(nq, nq);
     const double dmax = std::max(kqq.diagonal().cwiseAbs().maxCoeff(), 1e-300);
     kqq.diagonal().setZero();
-    ch.modal_stiffness = MaxAbs(kqq) / dmax;
+    ch.modal_stiffness = MaxAbsEntry(kqq) / dmax;
   }
   return ch;
 }
