@@ -125,6 +125,8 @@ class ResidualHomotopy : public ParametricSystem {
   void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
                 Eigen::VectorXd* dr_dlambda) const override;
   double ResidualScale() const override;
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double lambda,
+                                              Eigen::VectorXd* dr_dlambda) const override;
 
  private:
   const HarmonicBalance& system_;
@@ -141,6 +143,8 @@ class HbmAlphaPath : public ParametricSystem {
   void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
                 Eigen::VectorXd* dr_dlambda) const override;
   double ResidualScale() const override;
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double lambda,
+                                              Eigen::VectorXd* dr_dlambda) const override;
 
  private:
   const HarmonicBalance& system_;
@@ -155,6 +159,8 @@ class HbmFrequencyFamily : public ParametricSystem {
   void Evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd* r, Eigen::MatrixXd* j,
                 Eigen::VectorXd* dr_domega) const override;
   double ResidualScale() const override;
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double omega,
+                                              Eigen::VectorXd* dr_domega) const override;
 
  private:
   const HarmonicBalance& system_;

@@ -45,6 +45,15 @@ class ParametricSystem {
   virtual void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* residual,
                         Eigen::MatrixXd* jacobian, Eigen::VectorXd* dr_dlambda) const = 0;
   virtual double ResidualScale() const { return 1.0; }
+  // ∂R/∂x at (x, λ) as an operator, with ∂R/∂λ in *dr_dlambda, where the system applies it for
+  // less than it costs to form (SquareSystem::Linearize); nullptr, the default, where not. The
+  // continuation's corrector and tangent solves then need no dense Jacobian while GMRES with an
+  // earlier LU converges.
+  virtual std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& /*x*/,
+                                                      double /*lambda*/,
+                                                      Eigen::VectorXd* /*dr_dlambda*/) const {
+    return nullptr;
+  }
 };
 
 struct NewtonOptions {

@@ -74,6 +74,44 @@ struct Scaled {
   }
 };
 
+// The bordered Jacobian [G_z; rowᵀ] of the scaled system at z, applied matrix-free:
+// G_z = [∂R/∂x · x_scale, ∂R/∂λ · λ_scale] / residual scale.
+class BorderedOperator : public JacobianOperator {
+ public:
+  // nullptr where the system offers no matrix-free ∂R/∂x.
+  static std::unique_ptr<BorderedOperator> At(const Scaled& s, const Eigen::VectorXd& z,
+                                              const Eigen::VectorXd& row) {
+    Eigen::VectorXd rl;
+    std::unique_ptr<JacobianOperator> jx =
+        s.sys.Linearize(s.xs * z.head(s.n()), s.ls * z[s.n()], &rl);
+    if (!jx) return nullptr;
+    return std::unique_ptr<BorderedOperator>(
+        new BorderedOperator(std::move(jx), rl * (s.ls / s.rs), s.xs / s.rs, row));
+  }
+  void Apply(const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const override {
+    const Eigen::Index n = column_.size();
+    Eigen::VectorXd head;
+    jx_->Apply(v.head(n), transposed, &head);
+    out->resize(n + 1);
+    if (!transposed) {
+      out->head(n) = x_factor_ * head + v[n] * column_;
+      (*out)[n] = row_.dot(v);
+    } else {
+      out->head(n) = x_factor_ * head + v[n] * row_.head(n);
+      (*out)[n] = column_.dot(v.head(n)) + v[n] * row_[n];
+    }
+  }
+
+ private:
+  BorderedOperator(std::unique_ptr<JacobianOperator> jx, Eigen::VectorXd column, double x_factor,
+                   const Eigen::VectorXd& row)
+      : jx_(std::move(jx)), column_(std::move(column)), x_factor_(x_factor), row_(row) {}
+  std::unique_ptr<JacobianOperator> jx_;
+  Eigen::VectorXd column_;  // ∂G/∂z_λ
+  double x_factor_;
+  Eigen::VectorXd row_;
+};
+
 // Fixed λ: plain square system in x.
 struct FixedLambda : SquareSystem {
   const ParametricSystem& sys;
@@ -106,6 +144,12 @@ struct Corrector : SquareSystem {
       j->row(s.n()) = tau.transpose();
     }
   }
+  // Newton's GMRES steps on the matrix-free bordered Jacobian where the system offers one (a
+  // dense (n+1)² Jacobian per corrector iteration cost most of a continuation on the condensed
+  // FE balance); the dense one only where GMRES misses and a new LU is due.
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& z) const override {
+    return BorderedOperator::At(s, z, tau);
+  }
 };
 
 // Unit tangent of the branch at z, oriented along `previous`. Large systems first try GMRES
@@ -113,17 +157,36 @@ struct Corrector : SquareSystem {
 // at a nearby z), a new LU only if that misses.
 bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& previous,
              const dense::Lu* near, Eigen::VectorXd* tau) {
-  Eigen::VectorXd g;
-  Eigen::MatrixXd dg;
-  s.Eval(z, &g, &dg);
-  Eigen::MatrixXd a(s.n() + 1, s.n() + 1);
-  a.topRows(s.n()) = dg;
-  a.row(s.n()) = previous.transpose();
+  constexpr double kTolerance = 1e-10;
+  constexpr int kProducts = 20;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(s.n() + 1);
   rhs[s.n()] = 1.0;
+  const bool krylov =
+      near != nullptr && near->rows() == s.n() + 1 && s.n() + 1 >= dense::kLapackMinSize;
   bool solved = false;
-  if (near != nullptr && near->rows() == a.rows() && a.rows() >= dense::kLapackMinSize) {
-    solved = dense::PreconditionedGmres(a, false, *near, false, rhs, 1e-10, 20, tau).converged;
+  bool dense_krylov = krylov;  // GMRES on the dense matrix where no matrix-free one was tried
+  if (krylov) {
+    if (const std::unique_ptr<BorderedOperator> op = BorderedOperator::At(s, z, previous)) {
+      dense_krylov = false;
+      const dense::LinearMap apply = [&op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+        op->Apply(v, false, out);
+      };
+      solved = dense::PreconditionedGmres(apply, *near, false, rhs, kTolerance, kProducts, tau)
+                   .converged;
+    }
+  }
+  Eigen::MatrixXd a;
+  if (!solved) {
+    Eigen::VectorXd g;
+    Eigen::MatrixXd dg;
+    s.Eval(z, &g, &dg);
+    a.resize(s.n() + 1, s.n() + 1);
+    a.topRows(s.n()) = dg;
+    a.row(s.n()) = previous.transpose();
+  }
+  if (!solved && dense_krylov) {
+    solved = dense::PreconditionedGmres(a, false, *near, false, rhs, kTolerance, kProducts, tau)
+                 .converged;
   }
   if (!solved) {
     const dense::Lu lu(a);

@@ -79,6 +79,18 @@ void HbmFrequencyFamily::Evaluate(const Eigen::VectorXd& x, double omega, Eigen:
   if (dr_domega) *dr_domega = std::move(e.omega_derivative);
 }
 double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(); }
+std::unique_ptr<JacobianOperator> HbmFrequencyFamily::Linearize(const Eigen::VectorXd& x,
+                                                                double omega,
+                                                                Eigen::VectorXd* dr_domega) const {
+  std::unique_ptr<JacobianOperator> op = system_.Linearize(x, omega, alpha_);
+  if (!op) return nullptr;
+  HbmEvaluation e;
+  HbmRequest req;
+  req.omega_derivative = true;
+  system_.Evaluate(x, omega, alpha_, req, &e);
+  *dr_domega = std::move(e.omega_derivative);
+  return op;
+}
 
 HbmAlphaPath::HbmAlphaPath(const HarmonicBalance& system, double omega,
                            const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1)
@@ -97,6 +109,19 @@ void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::Vect
   *r = std::move(e.residual);
   if (j) *j = std::move(e.jacobian);
   if (dr_dlambda) *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
+}
+std::unique_ptr<JacobianOperator> HbmAlphaPath::Linearize(const Eigen::VectorXd& x, double lambda,
+                                                          Eigen::VectorXd* dr_dlambda) const {
+  const Eigen::VectorXd alpha =
+      (alpha0_ + lambda * (alpha1_ - alpha0_)).cwiseMax(-1.0).cwiseMin(1.0);
+  std::unique_ptr<JacobianOperator> op = system_.Linearize(x, omega_, alpha);
+  if (!op) return nullptr;
+  HbmEvaluation e;
+  HbmRequest req;
+  req.alpha_jacobian = true;
+  system_.Evaluate(x, omega_, alpha, req, &e);
+  *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
+  return op;
 }
 double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
 
@@ -144,6 +169,13 @@ void ResidualHomotopy::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::
   if (dr_dlambda) *dr_dlambda = r0_;
 }
 double ResidualHomotopy::ResidualScale() const { return system_.ResidualScale(); }
+std::unique_ptr<JacobianOperator> ResidualHomotopy::Linearize(const Eigen::VectorXd& x,
+                                                              double /*lambda*/,
+                                                              Eigen::VectorXd* dr_dlambda) const {
+  std::unique_ptr<JacobianOperator> op = system_.Linearize(x, omega_, alpha_);
+  if (op) *dr_dlambda = r0_;
+  return op;
+}
 
 bool SolveFromNearbyPoint(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double omega,
                           const Eigen::VectorXd& x0, const FrfOptions& options, Eigen::VectorXd* x,

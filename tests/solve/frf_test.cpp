@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "fricrom/condensed_system.h"
 #include "fricrom/hbm_system.h"
 #include "fricrom/units.h"
 #include "test_models.h"
@@ -314,6 +316,99 @@ TEST(Frf, FailedPointHasNoAmplitude) {
   ASSERT_NE(p.status, SolverStatus::kConverged);
   EXPECT_TRUE(std::isnan(p.amplitude));
   EXPECT_TRUE(p.regimes.empty());
+}
+
+// The continuation's matrix-free Jacobians (ParametricSystem::Linearize) on a condensed 40-pair
+// strip, H = 1, at a solution where half the contacts stick and half slip: each path's operator
+// applies the dense ∂R/∂x (and its transpose) and gives the dense ∂R/∂λ.
+TEST(Frf, ParametricLinearizationsMatchTheDenseJacobians) {
+  const CondensedSystem sys(testing::ContactStrip(40), HbmOptions{1, 64});
+  const double omega = kTwoPi * 1300.0;
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(40, -0.8, 0.9);
+  const FrfPoint p = SolveAtFrequency(sys, alpha, 1300.0, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(p.status, SolverStatus::kConverged);
+  const ResidualHomotopy homotopy(sys, omega, alpha, 1.2 * p.x);
+  const HbmAlphaPath alpha_path(sys, omega, Eigen::VectorXd::Zero(40), alpha);
+  const HbmFrequencyFamily family(sys, alpha);
+  const std::vector<std::pair<const ParametricSystem*, double>> paths = {
+      {&homotopy, 0.4}, {&alpha_path, 0.7}, {&family, omega}};
+  const Eigen::VectorXd v = testing::SeededRandom(sys.num_unknowns(), 1, 7);
+  for (const auto& [path, lambda] : paths) {
+    Eigen::VectorXd r, dr, dr_free, out;
+    Eigen::MatrixXd j;
+    path->Evaluate(p.x, lambda, &r, &j, &dr);
+    const std::unique_ptr<JacobianOperator> op = path->Linearize(p.x, lambda, &dr_free);
+    ASSERT_NE(op, nullptr);
+    EXPECT_LE((dr_free - dr).norm(), 1e-14 * dr.norm());
+    EXPECT_GT(dr.norm(), 0.0);
+    op->Apply(v, false, &out);
+    EXPECT_LE((out - j * v).norm(), 1e-12 * (j * v).norm());
+    op->Apply(v, true, &out);
+    EXPECT_LE((out - j.transpose() * v).norm(), 1e-12 * (j.transpose() * v).norm());
+  }
+}
+
+// A path that counts its dense Jacobians and offers its operator or hides it.
+class CountingPath : public ParametricSystem {
+ public:
+  CountingPath(const ParametricSystem& inner, bool offer_operator)
+      : inner_(inner), offer_operator_(offer_operator) {}
+  int size() const override { return inner_.size(); }
+  void Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd* r, Eigen::MatrixXd* j,
+                Eigen::VectorXd* dr) const override {
+    dense_jacobians += j != nullptr;
+    inner_.Evaluate(x, lambda, r, j, dr);
+  }
+  double ResidualScale() const override { return inner_.ResidualScale(); }
+  std::unique_ptr<JacobianOperator> Linearize(const Eigen::VectorXd& x, double lambda,
+                                              Eigen::VectorXd* dr) const override {
+    return offer_operator_ ? inner_.Linearize(x, lambda, dr) : nullptr;
+  }
+  mutable int dense_jacobians = 0;
+
+ private:
+  const ParametricSystem& inner_;
+  bool offer_operator_;
+};
+
+// The continuation's correctors and tangents on the matrix-free Jacobian follow the path the
+// dense ones follow (the α homotopy at 1300 Hz on the 40-pair strip, H = 1, where half the
+// contacts stick and half slip:
+// the same points to GMRES' tolerance), with a fraction of the dense Jacobians.
+TEST(Frf, MatrixFreeContinuationFollowsTheDensePath) {
+  const CondensedSystem sys(testing::ContactStrip(40), HbmOptions{1, 64});
+  const double omega = kTwoPi * 1300.0;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(40);
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(40, -0.8, 0.9);
+  Eigen::VectorXd x0 = sys.StickLinearSolution(omega);
+  ASSERT_TRUE(
+      SolveNewton(HbmAtFrequency(sys, omega, zero), NewtonOptions{}, &x0).IsSolutionUsable());
+  const HbmAlphaPath path(sys, omega, zero, alpha);
+  ContinuationOptions c;
+  c.x_scale = x0.norm();
+  c.initial_step = 0.05;
+  c.max_step = 0.2;
+  std::vector<ContinuationPoint> points[2];
+  int dense_jacobians[2];
+  for (int free = 0; free < 2; ++free) {
+    const CountingPath counted(path, free == 1);
+    const ContinuationSummary cs = Continue(counted, c, x0, [&](const ContinuationPoint& q) {
+      points[free].push_back(q);
+      return true;
+    });
+    ASSERT_EQ(cs.status, ContinuationStatus::kReachedEnd) << cs.BriefReport();
+    dense_jacobians[free] = counted.dense_jacobians;
+  }
+  ASSERT_EQ(points[0].size(), points[1].size());
+  EXPECT_GE(points[0].size(), 5u);
+  for (std::size_t k = 0; k < points[0].size(); ++k) {
+    EXPECT_NEAR(points[1][k].lambda, points[0][k].lambda, 1e-8) << k;
+    EXPECT_LE((points[1][k].x - points[0][k].x).norm(), 1e-8 * points[0][k].x.norm()) << k;
+  }
+  EXPECT_EQ(points[1].back().lambda, 1.0);
+  EXPECT_GT((points[1].back().x - x0).norm(), 1e-3 * x0.norm()) << "alpha no longer moves x";
+  EXPECT_LT(2 * dense_jacobians[1], dense_jacobians[0])
+      << dense_jacobians[1] << " dense Jacobians matrix-free, " << dense_jacobians[0] << " dense";
 }
 
 }  // namespace
