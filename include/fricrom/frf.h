@@ -147,6 +147,7 @@ class HbmAlphaPath : public ParametricSystem {
                                               Eigen::VectorXd* dr_dlambda) const override;
 
  private:
+  Eigen::VectorXd AlphaAt(double lambda) const;
   const HarmonicBalance& system_;
   double omega_;
   Eigen::VectorXd alpha0_, alpha1_;

@@ -16,6 +16,17 @@ std::vector<ContactRegime> Regimes(const HarmonicBalance& system, const Eigen::V
   return out;
 }
 
+// The balance's matrix-free ∂R/∂x at (x, ω, α) with the evaluation `req` asks for there (∂R/∂ω,
+// ∂R/∂α): a path's Linearize. nullptr, and nothing evaluated, where the balance has no operator.
+std::unique_ptr<JacobianOperator> LinearizeWith(const HarmonicBalance& system,
+                                                const Eigen::VectorXd& x, double omega,
+                                                const Eigen::VectorXd& alpha, const HbmRequest& req,
+                                                HbmEvaluation* e) {
+  std::unique_ptr<JacobianOperator> op = system.Linearize(x, omega, alpha);
+  if (op) system.Evaluate(x, omega, alpha, req, e);
+  return op;
+}
+
 ContinuationOptions MakeContinuationOptions(const HarmonicBalance& system,
                                             const FrfOptions& options, double f0, double f1,
                                             const Eigen::VectorXd& x0) {
@@ -82,13 +93,11 @@ double HbmFrequencyFamily::ResidualScale() const { return system_.ResidualScale(
 std::unique_ptr<JacobianOperator> HbmFrequencyFamily::Linearize(const Eigen::VectorXd& x,
                                                                 double omega,
                                                                 Eigen::VectorXd* dr_domega) const {
-  std::unique_ptr<JacobianOperator> op = system_.Linearize(x, omega, alpha_);
-  if (!op) return nullptr;
-  HbmEvaluation e;
   HbmRequest req;
   req.omega_derivative = true;
-  system_.Evaluate(x, omega, alpha_, req, &e);
-  *dr_domega = std::move(e.omega_derivative);
+  HbmEvaluation e;
+  std::unique_ptr<JacobianOperator> op = LinearizeWith(system_, x, omega, alpha_, req, &e);
+  if (op) *dr_domega = std::move(e.omega_derivative);
   return op;
 }
 
@@ -102,28 +111,26 @@ void HbmAlphaPath::Evaluate(const Eigen::VectorXd& x, double lambda, Eigen::Vect
   HbmRequest req;
   req.jacobian = j != nullptr;
   req.alpha_jacobian = dr_dlambda != nullptr;
-  // Continuation may overshoot λ ∈ [0, 1] slightly; α is clamped to its admissible box.
-  const Eigen::VectorXd alpha =
-      (alpha0_ + lambda * (alpha1_ - alpha0_)).cwiseMax(-1.0).cwiseMin(1.0);
-  system_.Evaluate(x, omega_, alpha, req, &e);
+  system_.Evaluate(x, omega_, AlphaAt(lambda), req, &e);
   *r = std::move(e.residual);
   if (j) *j = std::move(e.jacobian);
   if (dr_dlambda) *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
 }
 std::unique_ptr<JacobianOperator> HbmAlphaPath::Linearize(const Eigen::VectorXd& x, double lambda,
                                                           Eigen::VectorXd* dr_dlambda) const {
-  const Eigen::VectorXd alpha =
-      (alpha0_ + lambda * (alpha1_ - alpha0_)).cwiseMax(-1.0).cwiseMin(1.0);
-  std::unique_ptr<JacobianOperator> op = system_.Linearize(x, omega_, alpha);
-  if (!op) return nullptr;
-  HbmEvaluation e;
   HbmRequest req;
   req.alpha_jacobian = true;
-  system_.Evaluate(x, omega_, alpha, req, &e);
-  *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
+  HbmEvaluation e;
+  std::unique_ptr<JacobianOperator> op =
+      LinearizeWith(system_, x, omega_, AlphaAt(lambda), req, &e);
+  if (op) *dr_dlambda = e.alpha_jacobian * (alpha1_ - alpha0_);
   return op;
 }
 double HbmAlphaPath::ResidualScale() const { return system_.ResidualScale(); }
+// Continuation may overshoot λ ∈ [0, 1] slightly; α is clamped to its admissible box.
+Eigen::VectorXd HbmAlphaPath::AlphaAt(double lambda) const {
+  return (alpha0_ + lambda * (alpha1_ - alpha0_)).cwiseMax(-1.0).cwiseMin(1.0);
+}
 
 namespace {
 

@@ -75,6 +75,71 @@ TEST(WorkQueue, FirstExceptionStopsTheHandOutAndIsRethrown) {
   }
 }
 
+// A bound curve's shape of dependencies: unit n + i (second stage) waits for units i − 1, i, i + 1
+// (first stage). Every unit runs once, none before its dependencies have finished, and with
+// several threads second-stage units run while first-stage ones still do (no barrier).
+TEST(WorkQueue, ReadyUnitsRunOnceAfterTheirDependencies) {
+  constexpr int n = 12;
+  for (int threads : {1, 2, 4}) {
+    std::vector<char> state(2 * n, 0);  // 0 waiting, 1 handed out, 2 finished (under the lock)
+    std::vector<std::atomic<int>> runs(2 * n);
+    std::atomic<int> first_stage_running{0};
+    std::atomic<int> overlapped{0};
+    int violations = 0;
+    const auto finished_at = [&](int i) { return i < 0 || i >= n || state[i] == 2; };
+    RunReadyUnits(
+        threads,
+        [&]() -> int {
+          for (int u = 2 * n - 1; u >= 0; --u) {  // second stage first
+            const int i = u % n;
+            if (state[u] != 0) continue;
+            if (u >= n && !(finished_at(i - 1) && finished_at(i) && finished_at(i + 1))) continue;
+            state[u] = 1;
+            return u;
+          }
+          return -1;
+        },
+        [&](int u) {
+          ++runs[u];
+          if (u < n) ++first_stage_running;
+          if (u >= n && first_stage_running.load() > 0) ++overlapped;
+          std::this_thread::sleep_for(std::chrono::milliseconds(u % 5 == 0 ? 15 : 2));
+          if (u < n) --first_stage_running;
+        },
+        [&](int u) {
+          if (u >= n) {
+            const int i = u - n;
+            violations += !(finished_at(i - 1) && finished_at(i) && finished_at(i + 1));
+          }
+          state[u] = 2;
+        });
+    for (int u = 0; u < 2 * n; ++u) EXPECT_EQ(runs[u].load(), 1) << "unit " << u;
+    EXPECT_EQ(violations, 0);
+    if (threads == 1) {
+      EXPECT_EQ(overlapped.load(), 0);
+    } else {
+      EXPECT_GT(overlapped.load(), 0) << threads << " threads: a barrier";
+    }
+  }
+}
+
+TEST(WorkQueue, ReadyUnitsRethrowTheFirstException) {
+  for (int threads : {1, 2}) {
+    int next = 0;
+    std::atomic<int> started{0};
+    EXPECT_THROW(RunReadyUnits(
+                     threads, [&]() { return next < 100 ? next++ : -1; },
+                     [&](int i) {
+                       ++started;
+                       if (i == 3) throw std::runtime_error("unit 3 failed");
+                       std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                     },
+                     [](int) {}),
+                 std::runtime_error);
+    EXPECT_LT(started.load(), 100) << threads << " threads";
+  }
+}
+
 TEST(WorkQueue, WorkerThreadsIsBoundedByTheUnits) {
   EXPECT_EQ(WorkerThreads(8, 3), 3);
   EXPECT_EQ(WorkerThreads(1, 50), 1);
