@@ -23,13 +23,4 @@ int WorkerThreads(int requested, int units);
 void RunWorkUnits(const std::vector<int>& pending, int threads,
                   const std::function<void(int)>& unit, const std::function<void(int)>& finished);
 
-// Units that wait on others (a bound curve's point needs its neighbours' first pass): each worker
-// takes pick(), the next unit ready to run (-1: none now), and runs it; after unit(i) returns,
-// finished(i) is called. pick() and finished() run one at a time under the queue's lock, so
-// finished() may make units ready for pick(). The queue ends once pick() gives -1 with no unit
-// running. With no barrier between kinds of units no worker idles while another kind's units are
-// ready. Exceptions as RunWorkUnits; with one thread everything runs on the calling thread.
-void RunReadyUnits(int threads, const std::function<int()>& pick,
-                   const std::function<void(int)>& unit, const std::function<void(int)>& finished);
-
 }  // namespace fricrom

@@ -129,10 +129,6 @@ class CurveUnits {
   // at n + i, chain c at 2n + c, the ladder's refinement at 2n + chains + i.
   CurveUnitsRun Run(RunJournal* journal) {
     journal_ = journal;
-    if (!ranks_ && chains_.empty() && two_passes_) {
-      RunPipelined();
-      return std::move(run_);
-    }
     RunStage(0, anchors_, first_, "frequencies");
     for (int i : anchors_) pass1_[i] = BoundsFromRecord(journal_->finished().at(i));
     if (!chains_.empty()) Continue();
@@ -181,108 +177,6 @@ class CurveUnits {
       }
     }
     MergeChains(chains_, results, search_.objective, &pass1_);
-  }
-
-  // A stage of RunPipelined.
-  struct PipelineStage {
-    const char* name = "";
-    int offset = 0;
-    const Unit* unit = nullptr;
-    std::vector<char> state;  // per point: 0 waiting, 1 running, 2 done
-    int finished = 0, computed = 0;
-    bool started = false;
-    std::chrono::steady_clock::time_point t0{}, t1{};
-  };
-
-  PipelineStage MakeStage(const char* name, int offset, const Unit* unit) {
-    PipelineStage g;
-    g.name = name;
-    g.offset = offset;
-    g.unit = unit;
-    g.state.assign(n_, 0);
-    for (int i = 0; i < n_; ++i) {
-      if (journal_->finished().count(offset + i) == 0) continue;
-      g.state[i] = 2;
-      ++g.finished;
-    }
-    run_.resumed += g.finished;
-    return g;
-  }
-
-  // Pass 1, pass 2 and the ladder's refinement on threads without a barrier between the stages:
-  // pass 2 of point i is ready once pass 1 of i and its neighbours has finished, the refinement
-  // of i once its pass 2 has. Between stages a worker idled while the last long points of the
-  // stage ran (50-point FE curve, 2 threads: ~20 s of 260). Later stages go first (each finishes
-  // a point), within a stage dearest first by the earlier stage's time, pass 1 in order. Every
-  // unit has the inputs of the staged run (the same records), so the curve is the same.
-  void RunPipelined() {
-    std::vector<PipelineStage> st;
-    st.push_back(MakeStage("frequencies", 0, &first_));
-    st.push_back(MakeStage("neighbour starts", n_, &second_));
-    if (ladder_) st.push_back(MakeStage("harmonic refinement", 2 * n_, &refine_));
-    pass2_.resize(n_);
-    for (int s = 0; s < std::ssize(st); ++s) {
-      for (int i = 0; i < n_; ++i) {
-        if (st[s].state[i] == 2) Keep(s, i, journal_->finished().at(st[s].offset + i));
-      }
-    }
-    if (options_.progress) options_.progress(st[0].name, st[0].finished, n_);
-    const auto done = [&](int s, int i) { return i < 0 || i >= n_ || st[s].state[i] == 2; };
-    const auto ready = [&](int s, int i) {
-      return st[s].state[i] == 0 &&
-             (s == 0 || (s == 1 && done(0, i - 1) && done(0, i) && done(0, i + 1)) ||
-              (s == 2 && done(1, i)));
-    };
-    const auto cost = [&](int s, int i) {
-      const std::vector<BoundsResult>& by = s == 1 ? pass1_ : pass2_;
-      return s == 0 ? -i : std::isfinite(by[i].wall_s) ? by[i].wall_s : -1.0;
-    };
-    const auto pick = [&]() -> int {
-      for (int s = static_cast<int>(st.size()) - 1; s >= 0; --s) {
-        int best = -1;
-        for (int i = 0; i < n_; ++i) {
-          if (ready(s, i) && (best < 0 || cost(s, i) > cost(s, best))) best = i;
-        }
-        if (best < 0) continue;
-        st[s].state[best] = 1;
-        if (!st[s].started) {
-          st[s].started = true;
-          st[s].t0 = std::chrono::steady_clock::now();
-          if (s > 0 && options_.progress) options_.progress(st[s].name, st[s].finished, n_);
-        }
-        return s * n_ + best;
-      }
-      return -1;
-    };
-    std::vector<std::string> texts(st.size() * n_);
-    RunReadyUnits(
-        WorkerThreads(options_.threads, n_), pick,
-        [&](int u) { texts[u] = (*st[u / n_].unit)(u % n_); },
-        [&](int u) {
-          PipelineStage& g = st[u / n_];
-          const int i = u % n_;
-          const nlohmann::json record = nlohmann::json::parse(texts[u]);
-          texts[u].clear();
-          journal_->Record(g.offset + i, record);
-          Keep(u / n_, i, record);
-          g.state[i] = 2;
-          ++g.computed;
-          ++run_.computed;
-          g.t1 = std::chrono::steady_clock::now();
-          if (options_.progress) options_.progress(g.name, ++g.finished, n_);
-        });
-    for (const PipelineStage& g : st) {
-      const double wall_s =
-          g.computed > 0 ? std::chrono::duration<double>(g.t1 - g.t0).count() : 0.0;
-      run_.stages.push_back({g.name, n_, g.computed, wall_s});
-    }
-    run_.points = Read(st.back().offset);
-  }
-
-  // A finished record of stage s at point i, where the next stage reads it.
-  void Keep(int s, int i, const nlohmann::json& record) {
-    if (s == 0) pass1_[i] = BoundsFromRecord(record);
-    if (s == 1) pass2_[i] = BoundsFromRecord(record);
   }
 
   // Every rank holds the points `ids` of `stage` before the next stage (root broadcasts them).

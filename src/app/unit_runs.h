@@ -36,13 +36,10 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
 
 // One stage of a curve run as this run saw it: where a curve spends its time.
 struct CurveStage {
-  std::string name;  // "frequencies", "continuations", "neighbour starts", ...
-  int units = 0;     // units of the stage
-  int computed = 0;  // of them computed by this run (the rest resumed from the journal)
-  // This run's wall time in the stage (0 when everything was resumed): from its first unit's
-  // start to its last unit's end; on threads the stages overlap (a point's pass 2 starts once
-  // its neighbours' pass 1 is done), so their times add up to more than the run's.
-  double wall_s = 0.0;
+  std::string name;     // "frequencies", "continuations", "neighbour starts", ...
+  int units = 0;        // units of the stage
+  int computed = 0;     // of them computed by this run (the rest resumed from the journal)
+  double wall_s = 0.0;  // this run's wall time in the stage (0 when everything was resumed)
 };
 
 struct CurveUnitsRun {

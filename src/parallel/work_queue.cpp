@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -62,48 +61,6 @@ void RunWorkUnits(const std::vector<int>& pending, int threads,
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (first_error) std::rethrow_exception(first_error);
-}
-
-void RunReadyUnits(int threads, const std::function<int()>& pick,
-                   const std::function<void(int)>& unit, const std::function<void(int)>& finished) {
-  std::mutex lock;
-  std::condition_variable changed;
-  int running = 0;
-  std::exception_ptr first_error;
-  auto work = [&] {
-    std::unique_lock<std::mutex> guard(lock);
-    for (;;) {
-      int i = -1;
-      // Wait while nothing is ready but a running unit may still make something ready.
-      while (!first_error && (i = pick()) < 0 && running > 0) changed.wait(guard);
-      if (first_error || i < 0) break;
-      ++running;
-      guard.unlock();
-      std::exception_ptr error;
-      try {
-        unit(i);
-      } catch (...) {
-        error = std::current_exception();
-      }
-      guard.lock();
-      --running;
-      if (!error && !first_error) {
-        try {
-          finished(i);
-        } catch (...) {
-          error = std::current_exception();
-        }
-      }
-      if (error && !first_error) first_error = error;
-      changed.notify_all();
-    }
-    changed.notify_all();
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(threads, 1); ++t) pool.emplace_back(work);
   work();
   for (std::thread& t : pool) t.join();
   if (first_error) std::rethrow_exception(first_error);
