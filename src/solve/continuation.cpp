@@ -154,7 +154,8 @@ struct Corrector : SquareSystem {
 
 // Unit tangent of the branch at z, oriented along `previous`. Large systems first try GMRES
 // preconditioned with `near` (the corrector's last LU: the same bordered matrix [G_z; previousᵀ]
-// at a nearby z), a new LU only if that misses.
+// at a nearby z), on the matrix-free bordered operator where the system offers one, else on the
+// dense matrix; the dense matrix and a new LU only if that misses.
 bool Tangent(const Scaled& s, const Eigen::VectorXd& z, const Eigen::VectorXd& previous,
              const dense::Lu* near, Eigen::VectorXd* tau) {
   constexpr double kTolerance = 1e-10;
