@@ -7,7 +7,10 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace fricrom::dense {
@@ -69,6 +72,8 @@ class Lu {
   // Eliminated columns S (LAPACK route), and the rows M their off-diagonal entries occupy.
   Eigen::Index num_unit_columns() const { return static_cast<Eigen::Index>(unit_.size()); }
   Eigen::Index num_fill_rows() const { return static_cast<Eigen::Index>(fill_rows_.size()); }
+  // True once the solves go through the explicit inverse (LazyInverse below).
+  bool solves_by_inverse() const { return inverse_ && inverse_->ready.load(); }
   // A⁻¹ b, or A⁻ᵀ b when `transposed` (A: the matrix factorised, aᵀ after ComputeTransposed).
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& b, bool transposed = false) const;
   Eigen::VectorXd Solve(const Eigen::VectorXd& b, bool transposed = false) const;
@@ -87,6 +92,18 @@ class Lu {
   Eigen::MatrixXd SolveActive(Eigen::MatrixXd b, bool transposed) const;
   // a(S, R) v or a(M, S) diag(d)⁻¹ v (`fill`), or their transposes, in the factors' precision.
   Eigen::MatrixXd BlockTimes(bool fill, const Eigen::MatrixXd& v, bool transposed) const;
+  // The explicit inverse of a single-precision active part (of at least 256 unknowns), formed
+  // once the factorisation has served 48 solves (dense_lu.cpp): a preconditioner reused for
+  // hundreds of GMRES products then solves by one matrix-vector product instead of two
+  // triangular solves. Shared by copies of this Lu (same factors); thread-safe, as Solve is const.
+  struct LazyInverse {
+    std::atomic<int> solves{0};
+    std::atomic<bool> ready{false};
+    std::mutex mutex;
+    bool failed = false;  // getri found the factors singular: triangular solves stay
+    Eigen::MatrixXf inverse;
+  };
+  const Eigen::MatrixXf* ActiveInverse() const;
 
   Eigen::Index n_ = 0;
   bool lapack_ = false;
@@ -98,6 +115,7 @@ class Lu {
   Eigen::MatrixXd factors_, coupling_, fill_;  // LU of the Schur complement; a(S, R); a(M, S)/d
   Eigen::MatrixXf factors_single_, coupling_single_, fill_single_;
   std::vector<int> pivots_;
+  std::shared_ptr<LazyInverse> inverse_;  // null unless single precision, large enough
   Eigen::PartialPivLU<Eigen::MatrixXd> eigen_;
   double rcond_ = 0.0;
 };

@@ -9,6 +9,7 @@
 #include <complex>
 #include <cstdlib>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "fricrom/condensed_system.h"
@@ -73,6 +74,51 @@ TEST_P(DenseLapackSizes, SinglePrecisionLuIsAccurateToFloatRoundOff) {
   lu.Compute(a);
   EXPECT_TRUE(lu.exact());
   EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-12 * b.norm() * a.norm());
+}
+
+// A single-precision factorisation reused for many solves (a GMRES preconditioner) switches to
+// its explicit inverse: the solves before and after agree to float round-off, in both
+// transpositions, for vectors and blocks, from two threads at once, and in a copy; a new
+// factorisation starts again on triangular solves.
+TEST(DenseLu, ReusedSinglePrecisionFactorsSolveByTheirInverse) {
+  const int n = 320;
+  Eigen::MatrixXd a = testing::SeededRandom(n, n, 5) + 0.5 * n * Eigen::MatrixXd::Identity(n, n);
+  a.col(7).setZero();
+  a(7, 7) = 3.0;  // one eliminated column: the inverse is of the active part
+  const Eigen::MatrixXd b = testing::SeededRandom(n, 2, 6);
+  const Eigen::VectorXd v = b.col(0);
+  Lu lu;
+  lu.Compute(a, LuPrecision::kSingle);
+  ASSERT_FALSE(lu.exact());
+  ASSERT_EQ(lu.num_unit_columns(), 1);
+  const Eigen::VectorXd before = lu.Solve(v), before_t = lu.Solve(v, true);
+  EXPECT_FALSE(lu.solves_by_inverse());
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 2; ++t) {
+    threads.emplace_back([&lu, &v] {
+      for (int k = 0; k < 60; ++k) lu.Solve(v, k % 2 == 1);
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  ASSERT_TRUE(lu.solves_by_inverse());
+  const double tol = 1e-5 * v.norm();
+  EXPECT_LT((lu.Solve(v) - before).norm(), tol);
+  EXPECT_LT((lu.Solve(v, true) - before_t).norm(), tol);
+  EXPECT_LT((a * lu.Solve(v) - v).norm(), 1e-5 * v.norm() * a.norm());
+  EXPECT_LT((a.transpose() * lu.Solve(v, true) - v).norm(), 1e-5 * v.norm() * a.norm());
+  EXPECT_LT((a * lu.Solve(b) - b).norm(), 1e-5 * b.norm() * a.norm());
+  EXPECT_LT((a.transpose() * lu.Solve(b, true) - b).norm(), 1e-5 * b.norm() * a.norm());
+  const Lu copy = lu;
+  EXPECT_TRUE(copy.solves_by_inverse());
+  EXPECT_LT((copy.Solve(v) - before).norm(), tol);
+  lu.Compute(2.0 * a, LuPrecision::kSingle);
+  EXPECT_FALSE(lu.solves_by_inverse());
+  EXPECT_LT((2.0 * lu.Solve(v) - before).norm(), tol);
+  // A double factorisation keeps its exact triangular solves however often it is used.
+  Lu exact(a);
+  for (int k = 0; k < 100; ++k) exact.Solve(v);
+  EXPECT_FALSE(exact.solves_by_inverse());
+  EXPECT_LT((a * exact.Solve(v) - v).norm(), 1e-12 * v.norm() * a.norm());
 }
 
 // The condensed balance's pattern: columns that are unit outside a few "mean" rows (fully stuck
