@@ -20,7 +20,8 @@ class CondensedJacobian final : public JacobianOperator {
 
   void Apply(const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const override {
     if (v.size() != nh_ * bs_) throw std::invalid_argument("CondensedJacobian: wrong size");
-    d_.receptance->SetFrequency(d_.omega);  // G_h of this ω (a no-op unless ω moved)
+    // G_h of this ω (a no-op unless ω moved)
+    d_.receptance->SetFrequency(d_.omega, d_.harmonics);
     if (compact_.empty()) CompactReceptances();
     if (transposed) {
       ApplyTransposed(v, out);

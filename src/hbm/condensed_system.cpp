@@ -246,7 +246,7 @@ Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd
 std::unique_ptr<JacobianOperator> CondensedSystem::Linearize(const Eigen::VectorXd& x, double omega,
                                                              const Eigen::VectorXd& alpha) const {
   CheckInputs(x, alpha);
-  receptance_->SetFrequency(omega);
+  receptance_->SetFrequency(omega, options_.harmonics);
   ContactForces(x, alpha, AftDerivatives{true, false});
   CondensedJacobianData data;
   data.harmonics = options_.harmonics;
@@ -265,7 +265,7 @@ std::unique_ptr<JacobianOperator> CondensedSystem::Linearize(const Eigen::Vector
 void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
                                const HbmRequest& request, HbmEvaluation* out) const {
   CheckInputs(x, alpha);
-  receptance_->SetFrequency(omega);
+  receptance_->SetFrequency(omega, options_.harmonics);
   const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
   const int nh = 2 * options_.harmonics + 1, nx = num_unknowns(), resp = model_.response_dof;
   const Eigen::VectorXd ft =
@@ -343,7 +343,7 @@ double CondensedSystem::ResidualScale() const { return full_->ResidualScale(); }
 Eigen::VectorXd CondensedSystem::StickLinearSolution(double omega) const {
   // x̃_h = Z̃_h⁻¹ f_h through the receptance (K + K_stick); the preloaded normal springs push A
   // and B apart: −Bᵀ p with p the preloads on the normal rows.
-  receptance_->SetFrequency(omega);
+  receptance_->SetFrequency(omega, options_.harmonics);
   const int n = model_.num_dofs(), nr = num_relative();
   Eigen::VectorXd preload = Eigen::VectorXd::Zero(nr);
   for (int c = 0; c < num_contacts(); ++c) preload[row_n_[c]] += model_.contacts[c].normal_preload;
@@ -376,7 +376,7 @@ Eigen::VectorXd CondensedSystem::AmplitudeSquaredGradient(const Eigen::VectorXd&
 Eigen::VectorXd CondensedSystem::Recover(const Eigen::VectorXd& x, double omega,
                                          const Eigen::VectorXd& alpha) const {
   CheckInputs(x, alpha);
-  receptance_->SetFrequency(omega);
+  receptance_->SetFrequency(omega, options_.harmonics);
   const int n = model_.num_dofs();
   const Eigen::VectorXd ft = ContactForces(x, alpha, AftDerivatives{});
   Eigen::VectorXd full(n * (2 * options_.harmonics + 1));

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -28,7 +29,9 @@ HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eig
   lu_.resize(harmonics_ + 1);
   p_.resize(harmonics_ + 1);
   g_.resize(harmonics_ + 1);
+  g_complex_.resize(harmonics_ + 1);
   d_.resize(harmonics_ + 1);
+  formed_at_.assign(harmonics_ + 1, std::numeric_limits<double>::quiet_NaN());
   if (method_ != ReceptanceMethod::kModal) return;
   // Symmetric parts: the matrices are symmetric up to round-off of the reduction.
   const Eigen::MatrixXd ks = 0.5 * (k_ + k_.transpose()), ms = 0.5 * (m_ + m_.transpose());
@@ -61,32 +64,47 @@ HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eig
   }
 }
 
-void HarmonicReceptance::SetFrequency(double omega) {
-  if (omega == omega_) return;
-  if (method_ == ReceptanceMethod::kModal) {
-    SetFrequencyModal(omega);
-  } else {
-    SetFrequencyDense(omega);
-  }
+void HarmonicReceptance::SetFrequency(double omega, int harmonics) {
+  const int top = harmonics < 0 ? harmonics_ : std::min(harmonics, harmonics_);
   omega_ = omega;
-  SetComplexForms();
-  UpdateFixedLoads();
+  for (int h = 0; h <= top; ++h) {
+    const double at = formed_at_[h];
+    if (at == omega || (h == 0 && !std::isnan(at))) continue;  // Z_0 = K: any ω
+    FormHarmonic(h, omega);
+  }
 }
 
-void HarmonicReceptance::SetComplexForms() {
-  const int nr = num_relative();
-  g_complex_.resize(harmonics_ + 1);
-  for (int h = 1; h <= harmonics_; ++h) {
+int HarmonicReceptance::Formed(int h) const {
+  if (h < 0 || h > harmonics_) {
+    throw std::logic_error("HarmonicReceptance: harmonic " + std::to_string(h) + " out of range");
+  }
+  if (std::isnan(formed_at_[h]) || (h > 0 && formed_at_[h] != omega_)) {
+    throw std::logic_error("HarmonicReceptance: harmonic " + std::to_string(h) +
+                           " is not formed at the current frequency (SetFrequency)");
+  }
+  return h;
+}
+
+void HarmonicReceptance::FormHarmonic(int h, double omega) {
+  if (method_ == ReceptanceMethod::kModal) {
+    FormModal(h, omega);
+  } else {
+    FormDense(h, omega);
+  }
+  if (h > 0) {
+    const int nr = num_relative();
     g_complex_[h].resize(nr, nr);
     g_complex_[h].real() = g_[h].topLeftCorner(nr, nr);
     g_complex_[h].imag() = g_[h].topRightCorner(nr, nr);
   }
+  formed_at_[h] = omega;
+  UpdateFixedLoads(h);
 }
 
 void HarmonicReceptance::GTimes(int h, const Eigen::VectorXd& v, bool transposed,
                                 Eigen::VectorXd* out) const {
   const int nr = num_relative();
-  if (h == 0) {
+  if (Formed(h) == 0) {
     dense::MatVec(g_[0], transposed, v, out);
     return;
   }
@@ -105,7 +123,7 @@ Eigen::MatrixXcd HarmonicReceptance::GComplexColumns(int h, const std::vector<in
   if (h < 1 || h > harmonics_) {
     throw std::invalid_argument("HarmonicReceptance::GComplexColumns: harmonic out of range");
   }
-  const Eigen::MatrixXcd& g = g_complex_[h];
+  const Eigen::MatrixXcd& g = g_complex_[Formed(h)];
   Eigen::MatrixXcd out(g.rows(), static_cast<Eigen::Index>(cols.size()));
   for (std::size_t k = 0; k < cols.size(); ++k) {
     if (cols[k] < 0 || cols[k] >= g.cols()) {
@@ -132,62 +150,57 @@ void HarmonicReceptance::SetFixedLoads(std::vector<Eigen::VectorXd> loads, int d
   }
   loads_ = std::move(loads);
   dof_ = dof;
-  if (omega_ >= 0.0) UpdateFixedLoads();
+  load_response_.assign(harmonics_ + 1, Eigen::VectorXd());
+  load_relative_.assign(harmonics_ + 1, Eigen::VectorXd());
+  dof_p_rows_.assign(harmonics_ + 1, Eigen::MatrixXd());
+  // Every harmonic is formed again, with these loads, at the next SetFrequency.
+  formed_at_.assign(harmonics_ + 1, std::numeric_limits<double>::quiet_NaN());
 }
 
-void HarmonicReceptance::UpdateFixedLoads() {
+void HarmonicReceptance::UpdateFixedLoads(int h) {
   if (loads_.empty()) return;
-  load_response_.resize(harmonics_ + 1);
-  load_relative_.resize(harmonics_ + 1);
-  dof_p_rows_.resize(harmonics_ + 1);
-  for (int h = 0; h <= harmonics_; ++h) {
-    load_response_[h] = Solve(h, loads_[h]);
-    load_relative_[h] = Relative(h, load_response_[h]);
-    dof_p_rows_[h] = PRows(h, dof_);
-  }
+  load_response_[h] = Solve(h, loads_[h]);
+  load_relative_[h] = Relative(h, load_response_[h]);
+  dof_p_rows_[h] = PRows(h, dof_);
 }
 
-void HarmonicReceptance::SetFrequencyDense(double omega) {
+void HarmonicReceptance::FormDense(int h, double omega) {
   const int n = num_dofs(), nr = num_relative();
-  for (int h = 0; h <= harmonics_; ++h) {
-    Eigen::MatrixXd bt;
-    if (h == 0) {
-      lu_[0].Compute(k_);
-      bt = b_.transpose();
-    } else {
-      const double hw = h * omega;
-      const Eigen::MatrixXd kd = k_ - hw * hw * m_;
-      Eigen::MatrixXd z(2 * n, 2 * n);
-      z << kd, hw * c_, -hw * c_, kd;
-      lu_[h].Compute(z);
-      bt.setZero(2 * n, 2 * nr);
-      bt.topLeftCorner(n, nr) = b_.transpose();
-      bt.bottomRightCorner(n, nr) = b_.transpose();
-    }
-    p_[h] = lu_[h].Solve(bt);
-    g_[h] = dense::Product(bt, true, p_[h], false);
+  Eigen::MatrixXd bt;
+  if (h == 0) {
+    lu_[0].Compute(k_);
+    bt = b_.transpose();
+  } else {
+    const double hw = h * omega;
+    const Eigen::MatrixXd kd = k_ - hw * hw * m_;
+    Eigen::MatrixXd z(2 * n, 2 * n);
+    z << kd, hw * c_, -hw * c_, kd;
+    lu_[h].Compute(z);
+    bt.setZero(2 * n, 2 * nr);
+    bt.topLeftCorner(n, nr) = b_.transpose();
+    bt.bottomRightCorner(n, nr) = b_.transpose();
   }
+  p_[h] = lu_[h].Solve(bt);
+  g_[h] = dense::Product(bt, true, p_[h], false);
 }
 
-void HarmonicReceptance::SetFrequencyModal(double omega) {
+void HarmonicReceptance::FormModal(int h, double omega) {
   const int nr = num_relative();
-  for (int h = 0; h <= harmonics_; ++h) {
-    const double hw = h * omega;
-    d_[h] = (lambda_.array().cast<std::complex<double>>() - hw * hw +
-             std::complex<double>(0.0, 1.0) * hw * modal_c_.array())
-                .inverse()
-                .matrix();
-    // G_0 = W Λ⁻¹ Wᵀ does not depend on ω: formed once. G_h = W diag(d_h) Wᵀ is symmetric in
-    // its real and imaginary parts: WeightedGram forms each for half a general product.
-    if (h == 0) {
-      if (g_[0].size() == 0) g_[0] = dense::WeightedGram(w_, d_[0].real());
-      continue;
-    }
-    const Eigen::MatrixXd gr = dense::WeightedGram(w_, d_[h].real());
-    const Eigen::MatrixXd gi = dense::WeightedGram(w_, d_[h].imag());
-    g_[h].resize(2 * nr, 2 * nr);
-    g_[h] << gr, gi, -gi, gr;
+  const double hw = h * omega;
+  d_[h] = (lambda_.array().cast<std::complex<double>>() - hw * hw +
+           std::complex<double>(0.0, 1.0) * hw * modal_c_.array())
+              .inverse()
+              .matrix();
+  // G_h = W diag(d_h) Wᵀ is symmetric in its real and imaginary parts: WeightedGram forms each
+  // for half a general product (G_0 = W Λ⁻¹ Wᵀ).
+  if (h == 0) {
+    g_[0] = dense::WeightedGram(w_, d_[0].real());
+    return;
   }
+  const Eigen::MatrixXd gr = dense::WeightedGram(w_, d_[h].real());
+  const Eigen::MatrixXd gi = dense::WeightedGram(w_, d_[h].imag());
+  g_[h].resize(2 * nr, 2 * nr);
+  g_[h] << gr, gi, -gi, gr;
 }
 
 namespace {
@@ -207,6 +220,7 @@ Eigen::VectorXd FromComplex(const Eigen::VectorXcd& z) {
 }  // namespace
 
 Eigen::VectorXd HarmonicReceptance::Solve(int h, const Eigen::VectorXd& rhs) const {
+  Formed(h);
   if (method_ == ReceptanceMethod::kDense) return lu_[h].Solve(rhs);
   if (h == 0) return phi_ * (lambda_.cwiseInverse().asDiagonal() * (phi_.transpose() * rhs));
   const Eigen::VectorXcd q = d_[h].asDiagonal() * (phi_.transpose() * ToComplex(rhs, num_dofs()));
@@ -214,6 +228,7 @@ Eigen::VectorXd HarmonicReceptance::Solve(int h, const Eigen::VectorXd& rhs) con
 }
 
 Eigen::VectorXd HarmonicReceptance::TimesP(int h, const Eigen::VectorXd& v) const {
+  Formed(h);
   if (method_ == ReceptanceMethod::kDense) return p_[h] * v;
   const int nr = num_relative();
   if (h == 0) return Solve(0, b_.transpose() * v);
@@ -223,6 +238,7 @@ Eigen::VectorXd HarmonicReceptance::TimesP(int h, const Eigen::VectorXd& v) cons
 }
 
 Eigen::VectorXd HarmonicReceptance::TransposeTimesP(int h, const Eigen::VectorXd& g) const {
+  Formed(h);
   if (method_ == ReceptanceMethod::kDense) return p_[h].transpose() * g;
   if (h == 0) return Relative(0, Solve(0, g));
   // Z_h⁻ᵀ is the conjugate receptance (Φ diag(d̄) Φᵀ in complex form).
@@ -232,6 +248,7 @@ Eigen::VectorXd HarmonicReceptance::TransposeTimesP(int h, const Eigen::VectorXd
 }
 
 Eigen::MatrixXd HarmonicReceptance::PRows(int h, int dof) const {
+  Formed(h);
   const int n = num_dofs(), nr = num_relative();
   if (method_ == ReceptanceMethod::kDense) {
     if (h == 0) return p_[0].row(dof);

@@ -25,15 +25,19 @@ class HarmonicReceptance {
                      int harmonics, ReceptanceMethod method = ReceptanceMethod::kDense);
 
   // Forms G_h (and, dense, the factorisations and P_h = Z_h⁻¹ B_hᵀ) and the responses to the
-  // fixed loads; no-op if ω is unchanged.
-  void SetFrequency(double omega);
+  // fixed loads for h ≤ `harmonics` (all when negative); harmonics already formed at ω, and h = 0
+  // (independent of ω) once formed, are kept. A system with fewer harmonics sharing this
+  // receptance (the harmonic ladder's H = 1 search on an H = 3 case) forms only its own: 2 of
+  // 6 symmetric products per ω there. Until formed at the current ω, a harmonic's accessors throw
+  // std::logic_error.
+  void SetFrequency(double omega, int harmonics = -1);
   // Fixed loads f_h (n entries for h = 0, 2n for h ≥ 1; empty = none) and one DOF of interest:
   // their responses Z_h⁻¹ f_h, its relative part B_h Z_h⁻¹ f_h and P_h's rows of the DOF are
   // kept per ω, so a Newton step at fixed ω needs only G_h products (n_r² instead of n n_r).
   void SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof);
-  const Eigen::VectorXd& LoadResponse(int h) const { return load_response_[h]; }
-  const Eigen::VectorXd& LoadRelative(int h) const { return load_relative_[h]; }
-  const Eigen::MatrixXd& DofPRows(int h) const { return dof_p_rows_[h]; }
+  const Eigen::VectorXd& LoadResponse(int h) const { return load_response_[Formed(h)]; }
+  const Eigen::VectorXd& LoadRelative(int h) const { return load_relative_[Formed(h)]; }
+  const Eigen::MatrixXd& DofPRows(int h) const { return dof_p_rows_[Formed(h)]; }
   double omega() const { return omega_; }
   int num_dofs() const { return static_cast<int>(k_.rows()); }
   int num_relative() const { return static_cast<int>(b_.rows()); }
@@ -50,7 +54,7 @@ class HarmonicReceptance {
   Eigen::MatrixXd PRows(int h, int dof) const;
   // (∂Z_h/∂ω) x for h ≥ 1 (zero for h = 0).
   Eigen::VectorXd DzDomegaTimes(int h, const Eigen::VectorXd& x) const;
-  const Eigen::MatrixXd& G(int h) const { return g_[h]; }
+  const Eigen::MatrixXd& G(int h) const { return g_[Formed(h)]; }
   // G_h v, or G_hᵀ v when `transposed`, v stacked like G_h's columns. For h ≥ 1 through the
   // complex form Ĝ_h = A + iB of G_h = [[A, B], [−B, A]] on v̂ = v_cos − i v_sin: half the memory
   // traffic of the real product (GMRES steps are bound by it).
@@ -62,9 +66,13 @@ class HarmonicReceptance {
   Eigen::VectorXd Relative(int h, const Eigen::VectorXd& x) const;
 
  private:
-  void SetFrequencyDense(double omega);
-  void SetFrequencyModal(double omega);
-  void UpdateFixedLoads();
+  // Forms harmonic h at ω: G_h, its complex form, the fixed loads' responses.
+  void FormHarmonic(int h, double omega);
+  void FormDense(int h, double omega);
+  void FormModal(int h, double omega);
+  void UpdateFixedLoads(int h);
+  // h, after checking that harmonic h is formed at the current ω (std::logic_error if not).
+  int Formed(int h) const;
   // C x, or in the modal route the damping it models, M Φ diag(c) Φᵀ M x.
   Eigen::VectorXd DampingTimes(const Eigen::VectorXd& x) const;
 
@@ -72,6 +80,7 @@ class HarmonicReceptance {
   int harmonics_;
   ReceptanceMethod method_;
   double omega_ = -1.0;
+  std::vector<double> formed_at_;  // ω at which each harmonic was formed (NaN: not formed)
   // dense route
   std::vector<dense::Lu> lu_;
   std::vector<Eigen::MatrixXd> p_;
@@ -82,7 +91,6 @@ class HarmonicReceptance {
   std::vector<Eigen::VectorXcd> d_;  // Z_h⁻¹ ≅ Φ diag(d_h) Φᵀ in complex form
   std::vector<Eigen::MatrixXd> g_;
   std::vector<Eigen::MatrixXcd> g_complex_;  // Ĝ_h (h ≥ 1)
-  void SetComplexForms();
   // fixed loads and their per-ω responses
   std::vector<Eigen::VectorXd> loads_, load_response_, load_relative_;
   std::vector<Eigen::MatrixXd> dof_p_rows_;

@@ -118,6 +118,46 @@ TEST(HarmonicReceptance, FixedLoadResponsesFollowTheFrequency) {
   }
 }
 
+// SetFrequency(ω, H) forms only h ≤ H (a system with fewer harmonics sharing the receptance):
+// what it forms equals the full formation bit for bit, and a harmonic not formed at the current
+// ω - never, or at an earlier ω - cannot be read.
+TEST(HarmonicReceptance, FormsOnlyTheHarmonicsAskedFor) {
+  const Matrices s = MakeSystem(12, 5);
+  const Eigen::MatrixXd c = 1e-4 * s.k;
+  for (ReceptanceMethod m : {ReceptanceMethod::kDense, ReceptanceMethod::kModal}) {
+    HarmonicReceptance all(s.k, s.m, c, s.b, 3, m), part(s.k, s.m, c, s.b, 3, m);
+    const std::vector<Eigen::VectorXd> loads = {Eigen::VectorXd::Random(12), Eigen::VectorXd(),
+                                                Eigen::VectorXd(), Eigen::VectorXd::Random(24)};
+    all.SetFixedLoads(loads, 2);
+    part.SetFixedLoads(loads, 2);
+    EXPECT_THROW(part.G(0), std::logic_error);  // nothing formed yet
+    const Eigen::VectorXd v = Eigen::VectorXd::Random(10);
+    for (double omega : {700.0, 2300.0}) {
+      all.SetFrequency(omega);
+      part.SetFrequency(omega, 1);
+      for (int h = 0; h <= 1; ++h) {
+        EXPECT_EQ(part.G(h), all.G(h)) << "h " << h << " omega " << omega;
+        EXPECT_EQ(part.LoadResponse(h), all.LoadResponse(h));
+        EXPECT_EQ(part.DofPRows(h), all.DofPRows(h));
+      }
+      Eigen::VectorXd a, b;
+      part.GTimes(1, v, false, &a);
+      all.GTimes(1, v, false, &b);
+      EXPECT_EQ(a, b);
+      // Harmonics 2 and 3: never formed (first ω) or formed at the earlier ω (second).
+      EXPECT_THROW(part.G(2), std::logic_error);
+      EXPECT_THROW(part.LoadResponse(3), std::logic_error);
+      EXPECT_THROW(part.GTimes(3, Eigen::VectorXd::Zero(10), false, &a), std::logic_error);
+      EXPECT_THROW(part.Solve(2, Eigen::VectorXd::Zero(24)), std::logic_error);
+      part.SetFrequency(omega);
+      for (int h = 2; h <= 3; ++h) {
+        EXPECT_EQ(part.G(h), all.G(h)) << "h " << h << " omega " << omega;
+        EXPECT_EQ(part.LoadResponse(h), all.LoadResponse(h));
+      }
+    }
+  }
+}
+
 TEST(HarmonicReceptance, TransposeIsTheAdjointOfP) {
   // gᵀ (P v) = (Pᵀ g)ᵀ v in both routes, with non-proportional damping.
   const Matrices s = MakeSystem(10, 4);
