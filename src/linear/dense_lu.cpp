@@ -38,8 +38,7 @@ namespace {
 // Lu::LazyInverse: the solves after which a single-precision factorisation is inverted, and the
 // smallest active part worth it. At 525 unknowns sgetri costs 1.6 sgetrf and a solve by sgemv
 // is 2-4x faster than sgetrs (AMD EPYC, OpenBLAS 0.3.21): the inversion pays back after a few
-// hundred solves, which a GMRES preconditioner of the bound runs serves; 16 or 160 instead of 48
-// made no difference on the FE cascade's peak segment (192.7 against 192.3 s).
+// hundred solves, which a GMRES preconditioner of the bound runs serves (48: not tuned).
 constexpr int kInverseAfter = 48;
 constexpr int kInverseMinSize = 256;
 
