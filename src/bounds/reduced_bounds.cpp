@@ -50,13 +50,40 @@ bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const Ne
 }
 
 // The adjoint system (∂R/∂x)ᵀ λ = rhs by GMRES preconditioned with `lu` (a factorised (∂R/∂x)ᵀ),
-// on the matrix-free Jacobian `op` if there is one, else on the dense `jacobian`.
+// on the matrix-free Jacobian `op` if there is one, else on the dense `jacobian`. A `guess`
+// (the adjoint of the run's last iterate, empty if none) that leaves a smaller residual than 0
+// is corrected instead: GMRES solves for the correction to the same absolute tolerance.
 bool AdjointByGmres(const JacobianOperator* op, const Eigen::MatrixXd& jacobian,
-                    const dense::Lu& lu, const Eigen::VectorXd& rhs, Eigen::VectorXd* lambda) {
-  if (op != nullptr) {
-    const dense::LinearMap apply = [op](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+                    const dense::Lu& lu, const Eigen::VectorXd& rhs, const Eigen::VectorXd& guess,
+                    Eigen::VectorXd* lambda) {
+  const dense::LinearMap apply = [op, &jacobian](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+    if (op != nullptr) {
       op->Apply(v, true, out);
-    };
+    } else {
+      *out = jacobian.transpose() * v;
+    }
+  };
+  const double rhs_norm = rhs.norm();
+  if (guess.size() == rhs.size() && rhs_norm > 0.0) {
+    Eigen::VectorXd r0;
+    apply(guess, &r0);
+    r0 = rhs - r0;
+    const double r0_norm = r0.norm();
+    if (r0_norm <= kAdjointTolerance * rhs_norm) {
+      *lambda = guess;
+      return true;
+    }
+    if (r0_norm < 0.5 * rhs_norm) {
+      Eigen::VectorXd e;
+      const bool ok =
+          dense::PreconditionedGmres(apply, lu, false, r0, kAdjointTolerance * rhs_norm / r0_norm,
+                                     kAdjointProducts - 1, &e)
+              .converged;
+      *lambda = guess + e;
+      return ok;
+    }
+  }
+  if (op != nullptr) {
     return dense::PreconditionedGmres(apply, lu, false, rhs, kAdjointTolerance, kAdjointProducts,
                                       lambda)
         .converged;
@@ -72,7 +99,8 @@ bool AdjointByGmres(const JacobianOperator* op, const Eigen::MatrixXd& jacobian,
 // *lu receives the factorisation used.
 bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& x,
                       const Eigen::VectorXd& a, const std::shared_ptr<const dense::Lu>& previous,
-                      double* phi, Eigen::VectorXd* g, std::shared_ptr<const dense::Lu>* lu) {
+                      const Eigen::VectorXd& lambda_guess, double* phi, Eigen::VectorXd* g,
+                      std::shared_ptr<const dense::Lu>* lu, Eigen::VectorXd* lambda) {
   // The amplitude objective needs no ∂R/∂x of its own: with an earlier LU to precondition,
   // the adjoint GMRES runs on the matrix-free Jacobian and the dense one is formed only
   // if it misses (the loss factor's gradient reads the dense Jacobian).
@@ -85,11 +113,11 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
   req.alpha_jacobian = true;
   req.jacobian = op == nullptr;
   s.system->Evaluate(x, s.omega, a, req, &e);
-  Eigen::VectorXd gx, ga, lambda;
+  Eigen::VectorXd gx, ga;
   *phi = Objective(s, x, a, e, &gx, &ga);
   bool solved = false;
   if (op) {
-    solved = AdjointByGmres(op.get(), e.jacobian, *previous, gx, &lambda);
+    solved = AdjointByGmres(op.get(), e.jacobian, *previous, gx, lambda_guess, lambda);
     if (!solved) {
       req.alpha_jacobian = false;
       req.jacobian = true;
@@ -98,7 +126,7 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
       e.jacobian = std::move(ej.jacobian);
     }
   } else if (krylov) {
-    solved = AdjointByGmres(nullptr, e.jacobian, *previous, gx, &lambda);
+    solved = AdjointByGmres(nullptr, e.jacobian, *previous, gx, lambda_guess, lambda);
   }
   if (solved) {
     *lu = previous;
@@ -110,15 +138,15 @@ bool ValueAndGradient(const RunSetup& s, bool krylov_ok, const Eigen::VectorXd& 
                              krylov_ok ? dense::LuPrecision::kSingle : dense::LuPrecision::kDouble);
     if (!fresh->exact()) {
       solved = dense::PreconditionedGmres(e.jacobian, true, *fresh, false, gx, kAdjointTolerance,
-                                          kAdjointProducts, &lambda)
+                                          kAdjointProducts, lambda)
                    .converged;
       if (!solved) fresh->ComputeTransposed(e.jacobian);
     }
     if (!(fresh->rcond() > 1e-14)) return false;
-    if (!solved) lambda = fresh->Solve(gx);
+    if (!solved) *lambda = fresh->Solve(gx);
     *lu = std::move(fresh);
   }
-  *g = ga - e.alpha_jacobian.transpose() * lambda;
+  *g = ga - e.alpha_jacobian.transpose() * *lambda;
   return g->allFinite();
 }
 
@@ -144,7 +172,7 @@ bool QuadratureGradient(const RunSetup& s, const Eigen::VectorXd& x, const Eigen
     const std::unique_ptr<JacobianOperator> op = sys.Linearize(x, s.omega, a);
     req.jacobian = op == nullptr;
     sys.Evaluate(x, s.omega, a, req, &e);
-    if (!AdjointByGmres(op.get(), e.jacobian, lu, qx, &lambda)) {
+    if (!AdjointByGmres(op.get(), e.jacobian, lu, qx, Eigen::VectorXd(), &lambda)) {
       if (op) {
         HbmRequest jreq;
         jreq.jacobian = true;
@@ -254,7 +282,7 @@ class ReducedRun {
 
  private:
   struct Trial {
-    Eigen::VectorXd x, a, g;
+    Eigen::VectorXd x, a, g, lambda;
     double phi = 0.0;
     std::shared_ptr<const dense::Lu> lu;
     std::vector<ContactRegime> regimes;  // empty unless the chord steps computed them
@@ -262,10 +290,11 @@ class ReducedRun {
     double step = 0.0;                   // the step of the last trial
   };
 
+  // φ and g at (x, a); the adjoint GMRES starts from the current iterate's λ.
   bool Gradient(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double* phi, Eigen::VectorXd* g,
                 const std::shared_ptr<const dense::Lu>& previous,
-                std::shared_ptr<const dense::Lu>* lu) const {
-    return ValueAndGradient(s_, chord_, x, a, previous, phi, g, lu);
+                std::shared_ptr<const dense::Lu>* lu, Eigen::VectorXd* lambda) const {
+    return ValueAndGradient(s_, chord_, x, a, previous, lambda_, phi, g, lu, lambda);
   }
   bool SolveTrial(Trial* t);
   bool TryGaussNewton(Trial* t);
@@ -281,8 +310,9 @@ class ReducedRun {
   const bool chord_;
   NewtonOptions newton_;
   BoundSolution out_;
-  // The current iterate (x_, a_ solve R = 0) with its objective, gradient, LU and regimes.
-  Eigen::VectorXd x_, a_, g_;
+  // The current iterate (x_, a_ solve R = 0) with its objective, gradient, adjoint, LU and
+  // regimes.
+  Eigen::VectorXd x_, a_, g_, lambda_;
   double phi_ = 0.0;
   std::shared_ptr<const dense::Lu> lu_;
   std::vector<ContactRegime> regimes_;
@@ -306,7 +336,7 @@ class ReducedRun {
   int memory_;
   std::vector<double> recent_;
   struct Iterate {
-    Eigen::VectorXd x, a, g;
+    Eigen::VectorXd x, a, g, lambda;
     double phi = 0.0;
     std::shared_ptr<const dense::Lu> lu;
   } best_;
@@ -334,6 +364,7 @@ bool ReducedRun::BackToBest() {
   x_ = best_.x;
   a_ = best_.a;
   g_ = best_.g;
+  lambda_ = best_.lambda;
   phi_ = best_.phi;
   lu_ = best_.lu;
   if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
@@ -361,7 +392,9 @@ bool ReducedRun::SolveTrial(Trial* t) {
   Eigen::VectorXd r_at_x;  // R(x, α_new), from the chord attempt
   if (chord_ && ChordSolve(at, *lu_, newton_, &t->x, &r_at_x)) {
     t->regimes = sys_.ContactRegimes(t->x, s_.omega, t->a);
-    if (t->regimes == regimes_ && Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu)) return true;
+    if (t->regimes == regimes_ && Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu, &t->lambda)) {
+      return true;
+    }
   }
   t->x = x_;
   if (!SolveNewtonPreconditioned(at, newton_, NewtonPreconditioner{lu_.get(), true}, &t->x, nullptr,
@@ -370,7 +403,7 @@ bool ReducedRun::SolveTrial(Trial* t) {
     t->newton_failed = true;
     return false;
   }
-  if (!Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu)) return false;
+  if (!Gradient(t->x, t->a, &t->phi, &t->g, lu_, &t->lu, &t->lambda)) return false;
   t->regimes.clear();
   return true;
 }
@@ -420,12 +453,12 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
   x_ = x0;
   a_ = a0;
   if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
-  if (!Gradient(x_, a_, &phi_, &g_, nullptr, &lu_)) {
+  if (!Gradient(x_, a_, &phi_, &g_, nullptr, &lu_, &lambda_)) {
     return Finish(BoundStatus::kFailed, "singular Jacobian at the start");
   }
   step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
   recent_.assign(1, phi_);
-  best_ = Iterate{x_, a_, g_, phi_, lu_};
+  best_ = Iterate{x_, a_, g_, lambda_, phi_, lu_};
   for (int it = 0; it < max_iterations_; ++it) {
     out_.iterations = it;
     // First-order conditions on the box: the projected gradient step vanishes.
@@ -458,9 +491,10 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
     x_ = std::move(t.x);
     a_ = std::move(t.a);
     g_ = std::move(t.g);
+    lambda_ = std::move(t.lambda);
     phi_ = t.phi;
     lu_ = std::move(t.lu);
-    if (phi_ < best_.phi) best_ = Iterate{x_, a_, g_, phi_, lu_};
+    if (phi_ < best_.phi) best_ = Iterate{x_, a_, g_, lambda_, phi_, lu_};
     if (phi_ <= s_.stop_below) {
       out_.iterations = it + 1;
       BoundSolution negligible =
