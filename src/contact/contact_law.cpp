@@ -156,11 +156,26 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
 
   // Samples 1..2n−1: the first period settles the initial condition, the second is returned.
   // (Indices wrap by comparison: a `%` per sample, an integer division, cost 8 % of an FE bound.)
+  // A slip or lift-off at step s < n erases the initial condition: the state after it depends
+  // on the motion only. Samples are therefore recorded from step s, and if step s + n lands on
+  // the very state of step s (same state, same T, bit for bit), steps s + n.. 2n − 1 would repeat
+  // steps s.. n − 1 exactly and the loop stops there: the result is the two-period one to the
+  // bit, in s + n instead of 2n − 1 steps. Otherwise it runs on and overwrites as before.
+  int first_event = n;  // step of the first slip or lift-off in the first period
+  ContactState event_state = ContactState::kStick;
+  double event_tangential = 0.0;
   for (int step = 1, k = 1, km1 = 0; step < 2 * n; ++step, km1 = k, k = k + 1 == n ? 0 : k + 1) {
     const ContactStep at = AdvanceContact(p, t_prev, u[k] - u[km1], v[k]);
     const double nk = at.normal, tk = at.tangential;
     const ContactState state = at.state;
-    const bool record = step >= n;
+    if (state != ContactState::kStick) {
+      if (step == first_event + n && state == event_state && tk == event_tangential) break;
+      if (first_event == n && step < n) {
+        first_event = step;
+        event_state = state;
+        event_tangential = tk;
+      }
+    }
     if (state == ContactState::kLiftOff) {
       anchor_kind = Anchor::kLiftOff;
       anchor = k;
@@ -172,12 +187,13 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
       anchor_dv = (state == ContactState::kSlipPositive ? 1.0 : -1.0) * p.mu * p.kn;
       anchor_dalpha = 0.0;
     }
-    if (record) {
+    if (step >= first_event) {
       r.tangential[k] = tk;
       r.normal[k] = nk;
       r.states[k] = state;
       if (with_derivatives) {
         TangentialDerivative& d = r.dT[k];
+        d = TangentialDerivative{};  // a sample may be written twice (see above)
         r.dN_dv[k] = nk > 0.0 ? p.kn : 0.0;
         if (state == ContactState::kStick) {
           d.u_plus = k;

@@ -164,7 +164,9 @@ TEST(ContactLaw, StuckClosedFormAgreesWithTheSequentialLaw) {
 
 // The returned period is the second of two stepped from the initial condition: T, N and the
 // states must equal plain stepping with AdvanceContact bit for bit, in every regime (a guard for
-// any shortcut through the law's loop).
+// any shortcut through the law's loop), and the sparse derivative records must equal dense
+// forward-mode sensitivities carried through the same steps (an independent route: rows of
+// ∂T/∂u, ∂T/∂v and ∂T/∂α updated step by step; their entries are ±kt or sums cancelling exactly).
 TEST(ContactLaw, SecondPeriodEqualsPlainSteppingBitForBit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -183,15 +185,41 @@ TEST(ContactLaw, SecondPeriodEqualsPlainSteppingBitForBit) {
     EvaluateContactLaw(kParams, u, v, alpha, trial % 2 == 0, &r);
     const double n0 = std::max(kParams.normal_preload + kParams.kn * v[0], 0.0);
     double t = alpha * kParams.mu * n0;
+    Eigen::RowVectorXd gu = Eigen::RowVectorXd::Zero(kSamples), gv = gu;
+    double ga = 0.0;
+    if (n0 > 0.0) {
+      gv[0] = alpha * kParams.mu * kParams.kn;
+      ga = kParams.mu * n0;
+    }
     for (int step = 1; step < 2 * kSamples; ++step) {
       const int k = step % kSamples, km1 = (step - 1) % kSamples;
       const ContactStep s = AdvanceContact(kParams, t, u[k] - u[km1], v[k]);
       t = s.tangential;
+      if (s.state == ContactState::kStick) {
+        gu[k] += kParams.kt;
+        gu[km1] -= kParams.kt;
+      } else {
+        gu.setZero();
+        gv.setZero();
+        ga = 0.0;
+        if (s.state != ContactState::kLiftOff)
+          gv[k] = (s.state == ContactState::kSlipPositive ? 1.0 : -1.0) * kParams.mu * kParams.kn;
+      }
       if (step < kSamples) continue;
       events_seen += s.state != ContactState::kStick;
       ASSERT_EQ(r.tangential[k], s.tangential) << "trial " << trial << " sample " << k;
       ASSERT_EQ(r.normal[k], s.normal) << "trial " << trial << " sample " << k;
       ASSERT_EQ(r.states[k], s.state) << "trial " << trial << " sample " << k;
+      if (trial % 2 != 0) continue;
+      const TangentialDerivative& d = r.dT[k];
+      Eigen::RowVectorXd ru = Eigen::RowVectorXd::Zero(kSamples), rv = ru;
+      if (d.u_plus >= 0) ru[d.u_plus] += kParams.kt;
+      if (d.u_minus >= 0) ru[d.u_minus] -= kParams.kt;
+      if (d.v_index >= 0) rv[d.v_index] += d.dv;
+      ASSERT_EQ(ru, gu) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(rv, gv) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(d.dalpha, ga) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(r.dN_dv[k], s.normal > 0.0 ? kParams.kn : 0.0);
     }
   }
   EXPECT_GT(events_seen, 1000);  // slips and lift-offs were exercised, not only stick
