@@ -46,8 +46,8 @@ inline Model JenkinsOscillator(double m, double k, double c, double kt, double m
   ct.name = "jenkins";
   ct.dofs_a = {0, 1};
   ct.dofs_b = {-1, -1};
-  ct.normal = Eigen::Vector2d(0.0, 1.0);
-  ct.tangent = Eigen::Vector2d(1.0, 0.0);
+  ct.normal = Eigen::VectorXd{{0.0, 1.0}};
+  ct.tangent = Eigen::VectorXd{{1.0, 0.0}};
   ct.kn = 0.0;
   ct.kt = kt;
   ct.mu = mu;
@@ -71,8 +71,8 @@ inline Model BouncingOscillator(double force) {
   ct.name = "stop";
   ct.dofs_a = {0, 1};
   ct.dofs_b = {-1, -1};
-  ct.normal = Eigen::Vector2d(1.0, 0.0);
-  ct.tangent = Eigen::Vector2d(0.0, 1.0);
+  ct.normal = Eigen::VectorXd{{1.0, 0.0}};
+  ct.tangent = Eigen::VectorXd{{0.0, 1.0}};
   ct.kn = 3e4;
   ct.kt = 1e3;
   ct.mu = 0.0;
@@ -126,8 +126,8 @@ inline Model ContactStrip(int pairs, double force = 40.0) {
     ct.name = "pair" + std::to_string(i);
     ct.dofs_a = {dof(1, i, 0), dof(1, i, 1), dof(1, i, 2)};  // damper node (A) ...
     ct.dofs_b = {dof(0, i, 0), dof(0, i, 1), dof(0, i, 2)};  // ... on the platform node (B)
-    ct.normal = Eigen::Vector3d(0.0, 0.0, -1.0);             // from A into B: down
-    ct.tangent = i % 2 == 0 ? Eigen::Vector3d(1.0, 0.0, 0.0) : Eigen::Vector3d(0.0, 1.0, 0.0);
+    ct.normal = Eigen::VectorXd{{0.0, 0.0, -1.0}};           // from A into B: down
+    ct.tangent = i % 2 == 0 ? Eigen::VectorXd{{1.0, 0.0, 0.0}} : Eigen::VectorXd{{0.0, 1.0, 0.0}};
     ct.kn = 1e6;
     ct.kt = 8e5;
     ct.mu = 0.4;

@@ -28,7 +28,9 @@ std::string FormatG9(double v) {
 }
 
 std::string Point(const Vec3& x) {
-  return "(" + FormatG9(x[0]) + ", " + FormatG9(x[1]) + ", " + FormatG9(x[2]) + ")";
+  char buf[96];  // one call: g++ 12 -O3 -march=x86-64-v3 takes "(" + std::string for an overflow
+  std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", x[0], x[1], x[2]);
+  return buf;
 }
 
 std::string Source(const FeModel& m) { return m.source.empty() ? "" : " (" + m.source + ")"; }

@@ -53,8 +53,11 @@ void ReadContacts(const Reader& rd, const toml::table& root,
     }
     const AssemblyBody& ba = NodeRef(rd, bodies, *t["a"].as_table(), where + ".a", &na);
     const AssemblyBody& bb = NodeRef(rd, bodies, *t["b"].as_table(), where + ".b", &nb);
-    c.normal = Vector3(rd, t, where, "normal");
-    c.tangent = Vector3(rd, t, where, "tangent");
+    // Component by component: g++ 12 (-march=x86-64-v3) warns on a Vector3d -> VectorXd copy.
+    const Eigen::Vector3d normal = Vector3(rd, t, where, "normal");
+    const Eigen::Vector3d tangent = Vector3(rd, t, where, "tangent");
+    c.normal = Eigen::VectorXd{{normal[0], normal[1], normal[2]}};
+    c.tangent = Eigen::VectorXd{{tangent[0], tangent[1], tangent[2]}};
     for (int d = 0; d < 3; ++d) {
       c.dofs_a.push_back(ba.Dof(na, d + 1));
       c.dofs_b.push_back(bb.Dof(nb, d + 1));

@@ -234,8 +234,8 @@ class LumpedCaseParser {
     }
     // Face normals point out of the damper into the counterpart (see docs/theory.md).
     const double s = std::sin(theta), co = std::cos(theta);
-    c.normal = Eigen::Vector2d(face == "left" ? -s : s, co);
-    c.tangent = Eigen::Vector2d(co, face == "left" ? s : -s);
+    c.normal = Eigen::VectorXd{{face == "left" ? -s : s, co}};
+    c.tangent = Eigen::VectorXd{{co, face == "left" ? s : -s}};
     for (const std::string dir : {"x", "y"}) {
       const int da = DirectionIndex(*d, dir);
       if (da < 0)

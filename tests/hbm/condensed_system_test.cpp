@@ -28,7 +28,7 @@ void SplitIntoTwoTangentialDirections(Model* model) {
     for (int d = 0; d < 2; ++d) {
       Contact half = ct;
       half.name = ct.name + (d ? ".t2" : ".t1");
-      half.tangent = d ? Eigen::Vector3d(0.0, 1.0, 0.0) : Eigen::Vector3d(1.0, 0.0, 0.0);
+      half.tangent = d ? Eigen::VectorXd{{0.0, 1.0, 0.0}} : Eigen::VectorXd{{1.0, 0.0, 0.0}};
       half.kn = 0.5 * ct.kn;
       half.kt = 0.5 * ct.kt;
       half.normal_preload = 0.5 * ct.normal_preload;

@@ -14,7 +14,7 @@ namespace {
 struct Circle : SquareSystem {
   int size() const override { return 2; }
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
-    *r = Eigen::Vector2d(x[0] * x[0] + x[1] * x[1] - 4.0, x[0] - x[1]);
+    *r = Eigen::VectorXd{{x[0] * x[0] + x[1] * x[1] - 4.0, x[0] - x[1]}};
     if (j) {
       j->resize(2, 2);
       *j << 2 * x[0], 2 * x[1], 1, -1;
@@ -38,7 +38,7 @@ struct Arctan : SquareSystem {
 struct Singular : SquareSystem {
   int size() const override { return 2; }
   void Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* r, Eigen::MatrixXd* j) const override {
-    *r = Eigen::Vector2d(x[0] + x[1] - 1.0, 2 * x[0] + 2 * x[1] + 3.0);
+    *r = Eigen::VectorXd{{x[0] + x[1] - 1.0, 2 * x[0] + 2 * x[1] + 3.0}};
     if (j) {
       j->resize(2, 2);
       *j << 1, 1, 2, 2;
@@ -159,7 +159,7 @@ TEST(Newton, ResidualGivenAtTheStartIsNotEvaluatedAgain) {
 }
 
 TEST(Newton, ConvergesQuadraticallyToARoot) {
-  Eigen::VectorXd x = Eigen::Vector2d(3.0, 1.0);
+  Eigen::VectorXd x{{3.0, 1.0}};
   const NewtonSummary s = SolveNewton(Circle{}, NewtonOptions{}, &x);
   EXPECT_EQ(s.status, SolverStatus::kConverged) << s.BriefReport();
   EXPECT_NEAR(x[0], std::sqrt(2.0), 1e-12);
@@ -176,7 +176,7 @@ TEST(Newton, LineSearchGlobalises) {
 }
 
 TEST(Newton, ReportsSingularJacobian) {
-  Eigen::VectorXd x = Eigen::Vector2d(0.0, 0.0);
+  Eigen::VectorXd x{{0.0, 0.0}};
   const NewtonSummary s = SolveNewton(Singular{}, NewtonOptions{}, &x);
   EXPECT_EQ(s.status, SolverStatus::kSingular);
   EXPECT_FALSE(s.IsSolutionUsable());
@@ -216,8 +216,7 @@ TEST(Newton, StallTestEndsCrawlingSolvesOnly) {
   EXPECT_NE(b.message.find("stalled"), std::string::npos) << b.BriefReport();
   EXPECT_EQ(a.iterations, plain.max_iterations) << a.BriefReport();
   EXPECT_EQ(b.iterations, stall.stall_window) << b.BriefReport();  // 0.5 % in 5 steps
-  for (const Eigen::VectorXd& start :
-       {Eigen::VectorXd(Eigen::Vector2d(3.0, 1.0)), Eigen::VectorXd(Eigen::Vector2d(-0.3, 2.0))}) {
+  for (const Eigen::VectorXd& start : {Eigen::VectorXd{{3.0, 1.0}}, Eigen::VectorXd{{-0.3, 2.0}}}) {
     Eigen::VectorXd p = start, q = start;
     const NewtonSummary sp = SolveNewton(Circle{}, plain, &p);
     const NewtonSummary sq = SolveNewton(Circle{}, stall, &q);
@@ -247,7 +246,7 @@ TEST(Newton, InvalidOptionsAndSizesThrow) {
   std::string err;
   EXPECT_FALSE(o.IsValid(&err));
   EXPECT_NE(err.find("residual_tolerance"), std::string::npos);
-  Eigen::VectorXd x = Eigen::Vector2d(1.0, 1.0);
+  Eigen::VectorXd x{{1.0, 1.0}};
   EXPECT_THROW(SolveNewton(Circle{}, o, &x), std::invalid_argument);
   Eigen::VectorXd bad = Eigen::VectorXd::Zero(3);
   EXPECT_THROW(SolveNewton(Circle{}, NewtonOptions{}, &bad), std::invalid_argument);
