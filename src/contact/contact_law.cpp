@@ -156,24 +156,22 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
 
   // Samples 1..2n−1: the first period settles the initial condition, the second is returned.
   // (Indices wrap by comparison: a `%` per sample, an integer division, cost 8 % of an FE bound.)
-  // A slip or lift-off at step s < n erases the initial condition: the state after it depends
-  // on the motion only. Samples are therefore recorded from step s, and if step s + n lands on
-  // the very state of step s (same state, same T, bit for bit), steps s + n.. 2n − 1 would repeat
-  // steps s.. n − 1 exactly and the loop stops there: the result is the two-period one to the
-  // bit, in s + n instead of 2n − 1 steps. Otherwise it runs on and overwrites as before.
+  // A slip or lift-off at step s < n erases the initial condition: what follows depends on the
+  // motion only. Samples are therefore recorded from step s on, and when a second-period step
+  // at sample k ≥ s slips or lifts off exactly as the first period did at k (same state, same
+  // T bit for bit: the law's whole state, anchors included), the rest of the second period
+  // would repeat samples k..n−1 as recorded, and the loop stops: the two-period result to the
+  // bit in fewer steps. Samples not matched are overwritten by the second period as before.
   int first_event = n;  // step of the first slip or lift-off in the first period
-  ContactState event_state = ContactState::kStick;
-  double event_tangential = 0.0;
   for (int step = 1, k = 1, km1 = 0; step < 2 * n; ++step, km1 = k, k = k + 1 == n ? 0 : k + 1) {
     const ContactStep at = AdvanceContact(p, t_prev, u[k] - u[km1], v[k]);
     const double nk = at.normal, tk = at.tangential;
     const ContactState state = at.state;
     if (state != ContactState::kStick) {
-      if (step == first_event + n && state == event_state && tk == event_tangential) break;
-      if (first_event == n && step < n) {
-        first_event = step;
-        event_state = state;
-        event_tangential = tk;
+      if (step < n) {
+        first_event = std::min(first_event, step);
+      } else if (k >= first_event && state == r.states[k] && tk == r.tangential[k]) {
+        break;
       }
     }
     if (state == ContactState::kLiftOff) {
