@@ -102,6 +102,7 @@ bool EvaluateStuckContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u
     r.normal[k] = nk;
     scale = std::max(scale, std::max(limit, std::abs(dt)));
     const double s = limit * (1.0 + 1e-12) - std::abs(tk);
+    if (s < 0.0) return false;     // slips here: no tolerance below can accept it
     if (!(s >= slack)) slack = s;  // NaN sticks
   }
   if (!(slack >= 16.0 * n * std::numeric_limits<double>::epsilon() * scale)) return false;
