@@ -111,6 +111,7 @@ std::vector<double> ParseList(const std::string& text, const std::string& flag) 
 }
 
 std::string Version() { return FRICROM_VERSION; }
+std::string InstructionSet() { return FRICROM_INSTRUCTION_SET; }
 
 void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command) {
   h5.Attribute("", "fricrom_version", Version());

@@ -49,6 +49,9 @@ std::vector<double> ParseList(const std::string& text, const std::string& flag);
 // --seeds "a,b,c,d;e,f,g,h": semicolon-separated α vectors of num_contacts values in [-1, 1].
 std::vector<Eigen::VectorXd> ParseSeeds(const std::string& text, int num_contacts);
 std::string Version();
+// The instruction set the build targets ("x86-64-v3" or "portable", cmake/FricromCpuTarget.cmake):
+// results of the two differ at round-off, so manifests and --version name it.
+std::string InstructionSet();
 void CommonAttributes(Hdf5Writer& h5, const Case& c, const std::string& command);
 
 // Contacts grouped by the body on their A side (the damper): indices into model.contacts.

@@ -466,7 +466,7 @@ int Run(int argc, char** argv) {
   CLI::App app{"fricrom " + Version() +
                ": forced-response bounds of bladed assemblies with friction contacts"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", Version());
+  app.set_version_flag("--version", Version() + " (" + InstructionSet() + ")");
 
   BasicCommands basic;
   basic.Register(app);

@@ -276,6 +276,7 @@ void WriteManifest(const std::filesystem::path& dir, const std::string& name,
   const nlohmann::json m = {{"manifest", "fricrom-manifest-1"},
                             {"command", name},
                             {"fricrom", Version()},
+                            {"build", {{"instruction_set", InstructionSet()}}},
                             {"files", list}};
   WriteTextAtomically(dir / (name + ".manifest.json"), m.dump(1) + "\n");
 }
