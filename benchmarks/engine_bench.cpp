@@ -2,10 +2,12 @@
 // they were measured on are recorded in benchmarks/README.md (scripts/run_benchmarks.sh).
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
+#include "fricrom/contact_law.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
 #include "fricrom/units.h"
@@ -92,6 +94,37 @@ void BM_FrfContinuation(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(points);
 }
 BENCHMARK(BM_FrfContinuation)->Unit(benchmark::kMillisecond);
+
+// One contact law over 64 samples, derivatives on (arg 1) or off (arg 0), in the regimes the
+// FE cascade's AFT meets (EvaluateContactLaw: ~8 % of its 50-point curve): arg 0 of the second
+// pair is the motion — 0 stick-slip (α = 0.5, slips twice a period: the second period stops at
+// the first repeated slip), 1 lift-off over part of the period, 2 stuck throughout (the closed
+// form EvaluateStuckContactLaw, which the AFT tries first).
+void BM_ContactLaw(benchmark::State& state) {
+  const bool derivatives = state.range(0) != 0;
+  const int motion = static_cast<int>(state.range(1));
+  constexpr int kSamples = 64;
+  const ContactLawParams p{3e5, 2e5, 0.5, 30.0};  // kn, kt [N/m], μ, N0 [N]
+  Eigen::VectorXd u(kSamples), v(kSamples);
+  const double ua = motion == 2 ? 1e-5 : 4e-4, va = motion == 1 ? 2e-4 : 2e-5;
+  for (int k = 0; k < kSamples; ++k) {
+    const double th = kTwoPi * k / kSamples;
+    u[k] = ua * (std::cos(th) + 0.3 * std::sin(3 * th));
+    v[k] = va * std::cos(th + 0.5);
+  }
+  ContactLawResult r;
+  for (auto _ : state) {
+    if (motion != 2 || !EvaluateStuckContactLaw(p, u, v, 0.5, derivatives, &r)) {
+      EvaluateContactLaw(p, u, v, 0.5, derivatives, &r);
+    }
+    benchmark::DoNotOptimize(r.tangential.data());
+  }
+  state.SetLabel(ToString(ClassifyRegime(r.states)));
+}
+BENCHMARK(BM_ContactLaw)
+    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->ArgNames({"derivatives", "motion"})
+    ->Unit(benchmark::kNanosecond);
 
 }  // namespace
 
