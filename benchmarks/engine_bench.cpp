@@ -95,9 +95,9 @@ void BM_FrfContinuation(benchmark::State& state) {
 }
 BENCHMARK(BM_FrfContinuation)->Unit(benchmark::kMillisecond);
 
-// One contact law over 64 samples, derivatives on (arg 1) or off (arg 0), in the regimes the
-// FE cascade's AFT meets (EvaluateContactLaw: ~8 % of its 50-point curve): arg 0 of the second
-// pair is the motion — 0 stick-slip (α = 0.5, slips twice a period: the second period stops at
+// One contact law over 64 samples in the regimes the FE cascade's AFT meets (EvaluateContactLaw:
+// ~8 % of its 50-point curve). First argument: derivatives off (0) or on (1); second: the
+// motion — 0 stick-slip (α = 0.5, slips twice a period: the second period stops at
 // the first repeated slip), 1 lift-off over part of the period, 2 stuck throughout (the closed
 // form EvaluateStuckContactLaw, which the AFT tries first).
 void BM_ContactLaw(benchmark::State& state) {
