@@ -108,6 +108,14 @@ class CondensedSystem : public HarmonicBalance {
   std::unique_ptr<AftContactForces> aft_;
   std::unique_ptr<HbmSystem> full_;  // the uncondensed balance: energies, histories, η
   mutable std::vector<ContactForceBlocks> blocks_;
+  // The (x, α) that blocks_ belong to, their forces F̃ and the derivatives computed
+  // (ContactForces).
+  struct ForceMemo {
+    bool valid = false;
+    Eigen::VectorXd x, alpha, ft;
+    bool displacement = false, alpha_derivative = false;
+  };
+  mutable ForceMemo memo_;
 };
 
 }  // namespace fricrom

@@ -52,6 +52,9 @@ class CondensedJacobian final : public JacobianOperator {
     const int nr = d_.num_relative;
     compact_.resize(d_.harmonics + 1);
     for (int h = 1; h <= d_.harmonics; ++h) {
+      // Not yet formed at this ω (a continuation in frequency): the products go through the
+      // modes, which forming Ĝ_h for the copy would cost more than.
+      if (!d_.receptance->GFormed(h)) continue;
       std::vector<char> on(nr, 0);
       for (size_t c = 0; c < d_.blocks.size(); ++c) {
         const EffectiveForceBlocks& b = d_.blocks[c];

@@ -54,7 +54,14 @@ class HarmonicReceptance {
   Eigen::MatrixXd PRows(int h, int dof) const;
   // (∂Z_h/∂ω) x for h ≥ 1 (zero for h = 0).
   Eigen::VectorXd DzDomegaTimes(int h, const Eigen::VectorXd& x) const;
-  const Eigen::MatrixXd& G(int h) const { return g_[Formed(h)]; }
+  const Eigen::MatrixXd& G(int h) const {
+    FormG(Formed(h));
+    return g_[h];
+  }
+  // Whether G_h is formed at the current ω. The modal route forms G_h (h ≥ 1) only when G,
+  // GComplexColumns or more than a few GTimes at one ω ask for it; until then GTimes goes through
+  // the modes (W diag(d_h) Wᵀ v), equal to the formed product up to round-off.
+  bool GFormed(int h) const;
   // G_h v, or G_hᵀ v when `transposed`, v stacked like G_h's columns. For h ≥ 1 through the
   // complex form Ĝ_h = A + iB of G_h = [[A, B], [−B, A]] on v̂ = v_cos − i v_sin: half the memory
   // traffic of the real product (GMRES steps are bound by it).
@@ -69,7 +76,11 @@ class HarmonicReceptance {
   // Forms harmonic h at ω: G_h, its complex form, the fixed loads' responses.
   void FormHarmonic(int h, double omega);
   void FormDense(int h, double omega);
-  void FormModal(int h, double omega);
+  // The modal route's G_h and Ĝ_h at the current ω, unless formed already (harmonic h formed).
+  void FormG(int h) const;
+  void ComplexForm(int h) const;  // Ĝ_h from G_h
+  // Ĝ_h v̂ (or Ĝ_hᴴ v̂) through the modes, in GTimes' convention.
+  void ModalProduct(int h, const Eigen::VectorXd& v, bool transposed, Eigen::VectorXd* out) const;
   void UpdateFixedLoads(int h);
   // h, after checking that harmonic h is formed at the current ω (std::logic_error if not).
   int Formed(int h) const;
@@ -89,8 +100,10 @@ class HarmonicReceptance {
   Eigen::VectorXd lambda_, modal_c_;
   double coupling_ = 0.0;
   std::vector<Eigen::VectorXcd> d_;  // Z_h⁻¹ ≅ Φ diag(d_h) Φᵀ in complex form
-  std::vector<Eigen::MatrixXd> g_;
-  std::vector<Eigen::MatrixXcd> g_complex_;  // Ĝ_h (h ≥ 1)
+  mutable std::vector<Eigen::MatrixXd> g_;
+  mutable std::vector<Eigen::MatrixXcd> g_complex_;  // Ĝ_h (h ≥ 1)
+  mutable std::vector<double> g_formed_at_;          // ω at which G_h was formed (NaN: never)
+  mutable std::vector<int> products_before_g_;       // GTimes through W at the current ω
   // fixed loads and their per-ω responses
   std::vector<Eigen::VectorXd> loads_, load_response_, load_relative_;
   std::vector<Eigen::MatrixXd> dof_p_rows_;

@@ -204,6 +204,68 @@ TEST(Condensed, MatrixFreeJacobianEqualsTheDenseJacobian) {
   }
 }
 
+// The contact forces of the last (x, α) are reused (CondensedSystem::ContactForces): every
+// request in a sequence that revisits points, changes only α or only ω, and asks for more or fewer
+// derivatives equals, bit for bit, the same request on a twin system that is made to compute
+// anew (it evaluates an unrelated point in between).
+TEST(Condensed, ReusedContactForcesEqualFreshOnes) {
+  Model strip = testing::ContactStrip(12);
+  SplitIntoTwoTangentialDirections(&strip);
+  const HbmOptions options{3, 64};
+  const CondensedSystem reused(strip, options), fresh(strip, options);
+  const double w = kTwoPi * 1000.0;
+  const Eigen::VectorXd a1 = Eigen::VectorXd::LinSpaced(reused.num_contacts(), -0.9, 0.9);
+  const Eigen::VectorXd a2 = -a1;
+  const Eigen::VectorXd x1 = 3.0 * reused.StickLinearSolution(w);  // stuck and slipping pairs
+  const Eigen::VectorXd x2 = 0.5 * x1, other = 7.0 * x1;
+  HbmRequest plain, jacobian, alpha_jacobian, both;
+  jacobian.jacobian = true;
+  alpha_jacobian.alpha_jacobian = true;
+  both.jacobian = both.alpha_jacobian = true;
+  struct Call {
+    const Eigen::VectorXd* x;
+    double w;
+    const Eigen::VectorXd* alpha;
+    const HbmRequest* request;  // nullptr: Linearize
+  };
+  const std::vector<Call> calls = {
+      {&x1, w, &a1, &plain},          {&x1, w, &a1, nullptr},     {&x1, w, &a1, &alpha_jacobian},
+      {&x1, w, &a1, &plain},          {&x1, 1.1 * w, &a1, &both}, {&x1, w, &a2, &jacobian},
+      {&x2, w, &a2, &alpha_jacobian}, {&x2, w, &a2, nullptr},     {&x1, w, &a2, &plain},
+      {&x1, w, &a1, &both},           {&x1, w, &a1, &jacobian},   {&x2, w, &a1, &plain}};
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(x1.size(), -1.0, 2.0);
+  for (size_t k = 0; k < calls.size(); ++k) {
+    const Call& c = calls[k];
+    HbmEvaluation unrelated;
+    fresh.Evaluate(other, w, a1, plain, &unrelated);
+    if (c.request == nullptr) {
+      Eigen::VectorXd jv_reused, jv_fresh, jtv_reused, jtv_fresh;
+      reused.Linearize(*c.x, c.w, *c.alpha)->Apply(v, false, &jv_reused);
+      reused.Linearize(*c.x, c.w, *c.alpha)->Apply(v, true, &jtv_reused);
+      fresh.Linearize(*c.x, c.w, *c.alpha)->Apply(v, false, &jv_fresh);
+      fresh.Evaluate(other, w, a1, plain, &unrelated);
+      fresh.Linearize(*c.x, c.w, *c.alpha)->Apply(v, true, &jtv_fresh);
+      EXPECT_EQ(jv_reused, jv_fresh) << "call " << k;
+      EXPECT_EQ(jtv_reused, jtv_fresh) << "call " << k;
+      continue;
+    }
+    HbmEvaluation er, ef;
+    reused.Evaluate(*c.x, c.w, *c.alpha, *c.request, &er);
+    fresh.Evaluate(*c.x, c.w, *c.alpha, *c.request, &ef);
+    EXPECT_EQ(er.residual, ef.residual) << "call " << k;
+    EXPECT_EQ(er.jacobian, ef.jacobian) << "call " << k;
+    EXPECT_EQ(er.alpha_jacobian, ef.alpha_jacobian) << "call " << k;
+    ASSERT_EQ(er.residual.size(), x1.size());
+    ASSERT_TRUE(er.residual.allFinite());
+  }
+  // The regimes reuse the forces of the last evaluation as well.
+  HbmEvaluation e;
+  reused.Evaluate(x1, w, a1, plain, &e);
+  fresh.Evaluate(other, w, a1, plain, &e);
+  EXPECT_EQ(reused.ContactRegimes(x1, w, a1), fresh.ContactRegimes(x1, w, a1));
+  EXPECT_EQ(reused.ContactRegimes(x2, w, a2), fresh.ContactRegimes(x2, w, a2));
+}
+
 // Regimes from the condensed unknowns equal those of the recovered histories at solutions, in
 // every regime the light-preload baseline reaches.
 TEST(Condensed, RegimesFromTheUnknownsEqualTheHistories) {

@@ -89,6 +89,50 @@ TEST(HarmonicReceptance, GTimesEqualsTheRealBlockProduct) {
   }
 }
 
+// The modal route forms Ĝ_h only when needed: until then (the first 32 products at an ω) GTimes
+// goes through the modes, equal to the formed product up to round-off, transposed or not; then,
+// or when G is read, Ĝ_h is formed and equals the one formed at once, bit for bit.
+TEST(HarmonicReceptance, ModalProductsBeforeFormingEqualTheFormedProducts) {
+  const Matrices s = MakeSystem(130, 50);
+  const Eigen::MatrixXd c = 2e-5 * s.k + 1e-3 * Eigen::MatrixXd::Identity(130, 130);
+  HarmonicReceptance lazy(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
+  HarmonicReceptance eager(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
+  HarmonicReceptance dense(s.k, s.m, c, s.b, 2, ReceptanceMethod::kDense);
+  for (double omega : {1800.0, 2600.0}) {
+    lazy.SetFrequency(omega);
+    eager.SetFrequency(omega);
+    dense.SetFrequency(omega);
+    for (int h = 1; h <= 2; ++h) {
+      ASSERT_EQ(eager.G(h).rows(), 100);  // formed now
+      EXPECT_TRUE(eager.GFormed(h));
+      EXPECT_TRUE(dense.GFormed(h));
+      EXPECT_FALSE(lazy.GFormed(h)) << "h " << h << " omega " << omega;
+    }
+    // 20 products per harmonic, then 15 more of harmonic 1 (its 33rd forms Ĝ_1).
+    for (int k = 0; k < 55; ++k) {
+      const int h = k < 40 ? 1 + k % 2 : 1;
+      const bool transposed = k % 3 == 0;
+      const Eigen::VectorXd v = Eigen::VectorXd::Random(100);
+      Eigen::VectorXd a, b;
+      lazy.GTimes(h, v, transposed, &a);
+      eager.GTimes(h, v, transposed, &b);
+      EXPECT_LT(RelDiff(a, b), 1e-13) << "product " << k << " omega " << omega;
+      const Eigen::VectorXd ref = transposed ? Eigen::VectorXd(eager.G(h).transpose() * v)
+                                             : Eigen::VectorXd(eager.G(h) * v);
+      EXPECT_LT(RelDiff(a, ref), 1e-13) << "product " << k << " omega " << omega;
+      if (k == 39) {
+        EXPECT_FALSE(lazy.GFormed(1));
+      }
+    }
+    EXPECT_TRUE(lazy.GFormed(1));
+    EXPECT_FALSE(lazy.GFormed(2));
+    EXPECT_EQ(lazy.G(1), eager.G(1));
+    EXPECT_EQ(lazy.GComplexColumns(2, {0, 7, 49}), eager.GComplexColumns(2, {0, 7, 49}));
+    EXPECT_TRUE(lazy.GFormed(2));
+    EXPECT_EQ(lazy.G(2), eager.G(2));
+  }
+}
+
 TEST(HarmonicReceptance, FixedLoadResponsesFollowTheFrequency) {
   // The per-ω cache equals fresh solves, also after the loads are set before any frequency and
   // after a change of frequency.
