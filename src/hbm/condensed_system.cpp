@@ -286,8 +286,8 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
                                const HbmRequest& request, HbmEvaluation* out) const {
   CheckInputs(x, alpha);
   receptance_->SetFrequency(omega, options_.harmonics);
-  const int n = model_.num_dofs(), nr = num_relative(), nc = num_contacts();
-  const int nh = 2 * options_.harmonics + 1, nx = num_unknowns(), resp = model_.response_dof;
+  const int nr = num_relative(), nc = num_contacts();
+  const int nh = 2 * options_.harmonics + 1, nx = num_unknowns();
   const Eigen::VectorXd ft =
       ContactForces(x, alpha, AftDerivatives{request.jacobian, request.alpha_jacobian});
   out->residual.resize(nx);
@@ -309,14 +309,10 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
     bx = receptance_->LoadRelative(h) - bx;
     Eigen::VectorXd y(m);  // response coefficients
     for (int jj = 0; jj < m; ++jj) {
-      y[jj] = receptance_->LoadResponse(h)[jj * n + resp] - pr.row(jj).dot(fs);
+      y[jj] = receptance_->LoadResponseAtDof(h)[jj] - pr.row(jj).dot(fs);
     }
-    Eigen::VectorXd dxt, bd;  // ∂x̃_h/∂ω = −Z̃_h⁻¹ (∂Z̃_h/∂ω) x̃_h and B ∂x̃_h/∂ω
-    if (request.omega_derivative) {
-      const Eigen::VectorXd xt = receptance_->LoadResponse(h) - receptance_->TimesP(h, fs);
-      dxt = -receptance_->Solve(h, receptance_->DzDomegaTimes(h, xt));
-      bd = receptance_->Relative(h, dxt);
-    }
+    Eigen::VectorXd bd, dy;  // B ∂x̃_h/∂ω and the response's ∂x̃_h/∂ω
+    if (request.omega_derivative) receptance_->OmegaDerivative(h, fs, &bd, &dy);
     for (int jj = 0; jj < m; ++jj) {
       const int j = js[jj];
       for (int i = 0; i < nr; ++i) {
@@ -325,7 +321,7 @@ void CondensedSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eig
       out->residual[Idx(j, nr)] = sy_ * (x[Idx(j, nr)] - y[jj]);
       if (request.omega_derivative) {
         for (int i = 0; i < nr; ++i) out->omega_derivative[Idx(j, i)] = -w_[i] * bd[jj * nr + i];
-        out->omega_derivative[Idx(j, nr)] = -sy_ * dxt[jj * n + resp];
+        out->omega_derivative[Idx(j, nr)] = -sy_ * dy[jj];
       }
     }
     if (request.jacobian) {

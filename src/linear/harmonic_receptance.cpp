@@ -13,6 +13,28 @@
 
 namespace fricrom {
 
+namespace {
+
+// Complex amplitude x̂ = x_c − i x_s of a real [cos; sin] block (x = Re(x̂ e^{iωt})).
+Eigen::VectorXcd ToComplex(const Eigen::VectorXd& v, int n) {
+  return v.head(n).cast<std::complex<double>>() -
+         std::complex<double>(0.0, 1.0) * v.tail(n).cast<std::complex<double>>();
+}
+
+Eigen::VectorXd FromComplex(const Eigen::VectorXcd& z) {
+  Eigen::VectorXd v(2 * z.size());
+  v << z.real(), -z.imag();
+  return v;
+}
+
+// Row `row` of a real matrix times a complex vector.
+std::complex<double> RowTimes(const Eigen::MatrixXd& a, Eigen::Index row,
+                              const Eigen::VectorXcd& v) {
+  return {a.row(row).dot(v.real()), a.row(row).dot(v.imag())};
+}
+
+}  // namespace
+
 HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eigen::MatrixXd c,
                                        Eigen::MatrixXd b, int harmonics, ReceptanceMethod method)
     : k_(std::move(k)),
@@ -214,17 +236,85 @@ void HarmonicReceptance::SetFixedLoads(std::vector<Eigen::VectorXd> loads, int d
   loads_ = std::move(loads);
   dof_ = dof;
   load_response_.assign(harmonics_ + 1, Eigen::VectorXd());
+  load_response_at_.assign(harmonics_ + 1, std::numeric_limits<double>::quiet_NaN());
   load_relative_.assign(harmonics_ + 1, Eigen::VectorXd());
+  load_at_dof_.assign(harmonics_ + 1, Eigen::VectorXd());
   dof_p_rows_.assign(harmonics_ + 1, Eigen::MatrixXd());
+  modal_load_.assign(harmonics_ + 1, Eigen::VectorXcd());
+  modal_load_q_.assign(harmonics_ + 1, Eigen::VectorXcd());
+  if (method_ == ReceptanceMethod::kModal) {
+    for (int h = 0; h <= harmonics_; ++h) {
+      modal_load_[h] = phi_.transpose() * (h == 0 ? loads_[0].cast<std::complex<double>>().eval()
+                                                  : ToComplex(loads_[h], n));
+    }
+  }
   // Every harmonic is formed again, with these loads, at the next SetFrequency.
   formed_at_.assign(harmonics_ + 1, std::numeric_limits<double>::quiet_NaN());
 }
 
 void HarmonicReceptance::UpdateFixedLoads(int h) {
   if (loads_.empty()) return;
-  load_response_[h] = Solve(h, loads_[h]);
-  load_relative_[h] = Relative(h, load_response_[h]);
   dof_p_rows_[h] = PRows(h, dof_);
+  if (method_ == ReceptanceMethod::kDense) {
+    load_response_[h] = Solve(h, loads_[h]);
+    load_response_at_[h] = formed_at_[h];
+    load_relative_[h] = Relative(h, load_response_[h]);
+    const int n = num_dofs();
+    load_at_dof_[h] = h == 0
+                          ? Eigen::VectorXd::Constant(1, load_response_[h][dof_])
+                          : Eigen::VectorXd{{load_response_[h][dof_], load_response_[h][n + dof_]}};
+    return;
+  }
+  // Modal coordinates q = d_h ∘ Φᵀ f̂_h: the relative part W q and the DOF's Φ(dof, :) q cost
+  // n n_r; the whole response Φ q (n²) only when asked for.
+  const Eigen::VectorXcd& q = modal_load_q_[h] = d_[h].cwiseProduct(modal_load_[h]);
+  const std::complex<double> at = RowTimes(phi_, dof_, q);
+  if (h == 0) {
+    load_relative_[0] = w_ * q.real();
+    load_at_dof_[0] = Eigen::VectorXd::Constant(1, at.real());
+  } else {
+    load_relative_[h] = FromComplex(w_ * q);
+    load_at_dof_[h] = Eigen::VectorXd{{at.real(), -at.imag()}};
+  }
+}
+
+const Eigen::VectorXd& HarmonicReceptance::LoadResponse(int h) const {
+  if (load_response_at_[Formed(h)] != formed_at_[h]) {
+    load_response_[h] = h == 0 ? Eigen::VectorXd(phi_ * modal_load_q_[0].real())
+                               : FromComplex(phi_ * modal_load_q_[h]);
+    load_response_at_[h] = formed_at_[h];
+  }
+  return load_response_[h];
+}
+
+void HarmonicReceptance::OmegaDerivative(int h, const Eigen::VectorXd& fs,
+                                         Eigen::VectorXd* relative, Eigen::VectorXd* at_dof) const {
+  const int n = num_dofs(), nr = num_relative();
+  Formed(h);
+  if (h == 0) {
+    *relative = Eigen::VectorXd::Zero(nr);
+    *at_dof = Eigen::VectorXd::Zero(1);
+    return;
+  }
+  if (method_ == ReceptanceMethod::kDense) {
+    const Eigen::VectorXd xt = LoadResponse(h) - TimesP(h, fs);
+    const Eigen::VectorXd dxt = -Solve(h, DzDomegaTimes(h, xt));
+    *relative = Relative(h, dxt);
+    *at_dof = Eigen::VectorXd{{dxt[dof_], dxt[n + dof_]}};
+    return;
+  }
+  // x̂ = Φ q with q = d ∘ (Φᵀ f̂ − Wᵀ f̂s); Φᵀ (∂Ẑ/∂ω) Φ = diag(−2h²ω + i h c) (Φ M-orthonormal,
+  // the damping modal), so ∂q/∂ω = −d ∘ (−2h²ω + i h c) ∘ q.
+  const Eigen::VectorXcd wf = w_.transpose() * ToComplex(fs, nr);
+  const Eigen::VectorXcd q = modal_load_q_[h] - d_[h].cwiseProduct(wf);
+  Eigen::VectorXcd dq(q.size());
+  for (Eigen::Index k = 0; k < q.size(); ++k) {
+    const std::complex<double> dz(-2.0 * h * h * omega_, h * modal_c_[k]);
+    dq[k] = -d_[h][k] * dz * q[k];
+  }
+  *relative = FromComplex(w_ * dq);
+  const std::complex<double> at = RowTimes(phi_, dof_, dq);
+  *at_dof = Eigen::VectorXd{{at.real(), -at.imag()}};
 }
 
 void HarmonicReceptance::FormDense(int h, double omega) {
@@ -246,22 +336,6 @@ void HarmonicReceptance::FormDense(int h, double omega) {
   p_[h] = lu_[h].Solve(bt);
   g_[h] = dense::Product(bt, true, p_[h], false);
 }
-
-namespace {
-
-// Complex amplitude x̂ = x_c − i x_s of a real [cos; sin] block (x = Re(x̂ e^{iωt})).
-Eigen::VectorXcd ToComplex(const Eigen::VectorXd& v, int n) {
-  return v.head(n).cast<std::complex<double>>() -
-         std::complex<double>(0.0, 1.0) * v.tail(n).cast<std::complex<double>>();
-}
-
-Eigen::VectorXd FromComplex(const Eigen::VectorXcd& z) {
-  Eigen::VectorXd v(2 * z.size());
-  v << z.real(), -z.imag();
-  return v;
-}
-
-}  // namespace
 
 Eigen::VectorXd HarmonicReceptance::Solve(int h, const Eigen::VectorXd& rhs) const {
   Formed(h);

@@ -35,9 +35,19 @@ class HarmonicReceptance {
   // their responses Z_h⁻¹ f_h, its relative part B_h Z_h⁻¹ f_h and P_h's rows of the DOF are
   // kept per ω, so a Newton step at fixed ω needs only G_h products (n_r² instead of n n_r).
   void SetFixedLoads(std::vector<Eigen::VectorXd> loads, int dof);
-  const Eigen::VectorXd& LoadResponse(int h) const { return load_response_[Formed(h)]; }
+  // The whole response (modal route: formed when first asked for at an ω).
+  const Eigen::VectorXd& LoadResponse(int h) const;
   const Eigen::VectorXd& LoadRelative(int h) const { return load_relative_[Formed(h)]; }
+  // The response's entries at the DOF of interest (1 for h = 0; cos and sin rows for h ≥ 1).
+  const Eigen::VectorXd& LoadResponseAtDof(int h) const { return load_at_dof_[Formed(h)]; }
   const Eigen::MatrixXd& DofPRows(int h) const { return dof_p_rows_[Formed(h)]; }
+  // ∂x̃_h/∂ω of x̃_h = Z_h⁻¹ (f_h − B_hᵀ fs) (fixed load f_h, fs stacked like G_h's columns):
+  // its relative part B_h ∂x̃_h/∂ω and its entries at the DOF of interest (zero for h = 0). The
+  // modal route works in modal coordinates, ∂q/∂ω = −d_h ∘ (∂(1/d_h)/∂ω) ∘ q, for n n_r
+  // operations instead of the n² of solving with Z_h (a continuation in frequency asks at every
+  // corrector step).
+  void OmegaDerivative(int h, const Eigen::VectorXd& fs, Eigen::VectorXd* relative,
+                       Eigen::VectorXd* at_dof) const;
   double omega() const { return omega_; }
   int num_dofs() const { return static_cast<int>(k_.rows()); }
   int num_relative() const { return static_cast<int>(b_.rows()); }
@@ -105,7 +115,11 @@ class HarmonicReceptance {
   mutable std::vector<double> g_formed_at_;          // ω at which G_h was formed (NaN: never)
   mutable std::vector<int> products_before_g_;       // GTimes through W at the current ω
   // fixed loads and their per-ω responses
-  std::vector<Eigen::VectorXd> loads_, load_response_, load_relative_;
+  std::vector<Eigen::VectorXd> loads_, load_relative_, load_at_dof_;
+  mutable std::vector<Eigen::VectorXd> load_response_;
+  mutable std::vector<double> load_response_at_;  // ω of load_response_[h] (NaN: none)
+  std::vector<Eigen::VectorXcd> modal_load_;      // modal route: Φᵀ f̂_h (complex form)
+  std::vector<Eigen::VectorXcd> modal_load_q_;    // d_h ∘ Φᵀ f̂_h at the current ω
   std::vector<Eigen::MatrixXd> dof_p_rows_;
   int dof_ = -1;
 };

@@ -133,6 +133,67 @@ TEST(HarmonicReceptance, ModalProductsBeforeFormingEqualTheFormedProducts) {
   }
 }
 
+// ∂x̃_h/∂ω of x̃_h = Z_h⁻¹ (f_h − B_hᵀ fs) (OmegaDerivative: its relative part and the DOF's
+// entries): the modal route (modal coordinates) equals the dense route for proportional damping,
+// and each route its own central differences in ω, also with non-proportional damping. The fixed
+// loads' responses at the DOF and on the relative rows equal the whole response's.
+TEST(HarmonicReceptance, OmegaDerivativeMatchesTheDenseRouteAndDifferences) {
+  const Matrices s = MakeSystem(14, 6);
+  const int dof = 5;
+  const std::vector<Eigen::VectorXd> loads = {
+      Eigen::VectorXd::Random(14), Eigen::VectorXd::Random(28), Eigen::VectorXd::Random(28)};
+  for (const bool proportional : {true, false}) {
+    const Eigen::MatrixXd c =
+        proportional ? Eigen::MatrixXd(3.0 * s.m + 2e-5 * s.k)
+                     : Eigen::MatrixXd(2e-5 * s.k + 1e-3 * Eigen::MatrixXd::Identity(14, 14));
+    std::vector<HarmonicReceptance> routes;
+    routes.emplace_back(s.k, s.m, c, s.b, 2, ReceptanceMethod::kDense);
+    routes.emplace_back(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
+    for (HarmonicReceptance& r : routes) r.SetFixedLoads(loads, dof);
+    for (double omega : {1234.5, 4000.0}) {
+      for (int h = 0; h <= 2; ++h) {
+        const Eigen::VectorXd fs = Eigen::VectorXd::Random(h == 0 ? 6 : 12);
+        std::vector<Eigen::VectorXd> rel(2), at(2);
+        for (int k = 0; k < 2; ++k) {
+          HarmonicReceptance& r = routes[k];
+          r.SetFrequency(omega);
+          r.OmegaDerivative(h, fs, &rel[k], &at[k]);
+          const Eigen::VectorXd whole = r.LoadResponse(h);
+          EXPECT_LT(RelDiff(r.LoadRelative(h), r.Relative(h, whole)), 1e-12);
+          const Eigen::VectorXd at_dof = h == 0 ? Eigen::VectorXd::Constant(1, whole[dof])
+                                                : Eigen::VectorXd{{whole[dof], whole[14 + dof]}};
+          EXPECT_LT(RelDiff(r.LoadResponseAtDof(h), at_dof), 1e-12);
+          // Central differences of B x̃ and x̃(dof) in ω.
+          const double dw = 1e-6 * omega;
+          std::vector<Eigen::VectorXd> rel_pm(2), at_pm(2);
+          for (int side = 0; side < 2; ++side) {
+            r.SetFrequency(omega + (side == 0 ? dw : -dw));
+            rel_pm[side] = r.LoadRelative(h) - r.G(h) * fs;
+            at_pm[side] = r.LoadResponseAtDof(h) - r.DofPRows(h) * fs;
+          }
+          r.SetFrequency(omega);
+          const Eigen::VectorXd fd_rel = (rel_pm[0] - rel_pm[1]) / (2 * dw);
+          const Eigen::VectorXd fd_at = (at_pm[0] - at_pm[1]) / (2 * dw);
+          if (h == 0) {
+            EXPECT_EQ(rel[k], Eigen::VectorXd::Zero(6));
+            EXPECT_EQ(at[k], Eigen::VectorXd::Zero(1));
+            continue;
+          }
+          const double scale = rel_pm[0].norm() / omega;  // |∂/∂ω| ~ |x̃|/ω
+          EXPECT_LT((rel[k] - fd_rel).norm(), 1e-6 * std::max(fd_rel.norm(), scale))
+              << "route " << k << " h " << h << " omega " << omega;
+          EXPECT_LT((at[k] - fd_at).norm(), 1e-6 * std::max(fd_at.norm(), scale))
+              << "route " << k << " h " << h << " omega " << omega;
+        }
+        if (proportional && h > 0) {
+          EXPECT_LT(RelDiff(rel[1], rel[0]), 1e-9) << "h " << h << " omega " << omega;
+          EXPECT_LT(RelDiff(at[1], at[0]), 1e-9) << "h " << h << " omega " << omega;
+        }
+      }
+    }
+  }
+}
+
 TEST(HarmonicReceptance, FixedLoadResponsesFollowTheFrequency) {
   // The per-ω cache equals fresh solves, also after the loads are set before any frequency and
   // after a change of frequency.
