@@ -3,6 +3,8 @@
 // machine: benchmarks/README.md.
 #include <benchmark/benchmark.h>
 
+#include <memory>
+
 #include "fricrom/condensed_system.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
@@ -101,6 +103,35 @@ BENCHMARK(BM_CondensedSolveNewFrequency)
     ->Args({100, 1})
     ->Args({200, 1})
     ->Args({400, 1})
+    ->Args({100, 3})
+    ->Unit(benchmark::kMillisecond);
+
+// A continuation in frequency's work per corrector step (modal receptance), from a converged
+// state: the residual and ∂R/∂ω at a new ω, the matrix-free Jacobian there and five products
+// (GMRES). Since the twenty-second session no G_h is formed for it (products through the modes)
+// and no Z_h solved (∂x̃/∂ω in modal coordinates).
+void BM_FrequencyFamilyStep(benchmark::State& state) {
+  const int pairs = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(pairs, -0.9, 0.9);
+  CondensedSystem sys(testing::ContactStrip(pairs), HbmOptions{h, 64, ReceptanceMethod::kModal});
+  const FrfPoint p = SolveAtFrequency(sys, alpha, kFreq, Eigen::VectorXd(), FrfOptions{});
+  const HbmFrequencyFamily family(sys, alpha);
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(p.x.size(), -1.0, 1.0);
+  Eigen::VectorXd r, dr, jv;
+  int k = 0;
+  for (auto _ : state) {
+    const double w = kTwoPi * (kFreq + 1e-3 * (1 + k++ % 64));  // a new ω every step
+    family.Evaluate(p.x, w, &r, nullptr, &dr);
+    const std::unique_ptr<JacobianOperator> op = family.Linearize(p.x, w, &dr);
+    for (int m = 0; m < 5; ++m) op->Apply(v, m % 2 == 1, &jv);
+    benchmark::DoNotOptimize(jv.data());
+  }
+  state.counters["unknowns"] = sys.num_unknowns();
+  state.counters["converged"] = p.status == SolverStatus::kConverged;
+}
+BENCHMARK(BM_FrequencyFamilyStep)
+    ->Args({100, 1})
+    ->Args({200, 1})
     ->Args({100, 3})
     ->Unit(benchmark::kMillisecond);
 
