@@ -279,6 +279,7 @@ void HarmonicReceptance::UpdateFixedLoads(int h) {
 }
 
 const Eigen::VectorXd& HarmonicReceptance::LoadResponse(int h) const {
+  if (loads_.empty()) throw std::logic_error("HarmonicReceptance: no fixed loads (SetFixedLoads)");
   if (load_response_at_[Formed(h)] != formed_at_[h]) {
     load_response_[h] = h == 0 ? Eigen::VectorXd(phi_ * modal_load_q_[0].real())
                                : FromComplex(phi_ * modal_load_q_[h]);
@@ -291,6 +292,7 @@ void HarmonicReceptance::OmegaDerivative(int h, const Eigen::VectorXd& fs,
                                          Eigen::VectorXd* relative, Eigen::VectorXd* at_dof) const {
   const int n = num_dofs(), nr = num_relative();
   Formed(h);
+  if (loads_.empty()) throw std::logic_error("HarmonicReceptance: no fixed loads (SetFixedLoads)");
   if (h == 0) {
     *relative = Eigen::VectorXd::Zero(nr);
     *at_dof = Eigen::VectorXd::Zero(1);

@@ -236,6 +236,12 @@ TEST(HarmonicReceptance, FormsOnlyTheHarmonicsAskedFor) {
     all.SetFixedLoads(loads, 2);
     part.SetFixedLoads(loads, 2);
     EXPECT_THROW(part.G(0), std::logic_error);  // nothing formed yet
+    HarmonicReceptance no_loads(s.k, s.m, c, s.b, 3, m);
+    no_loads.SetFrequency(700.0);
+    Eigen::VectorXd rel, at;
+    EXPECT_THROW(no_loads.LoadResponse(1), std::logic_error);
+    EXPECT_THROW(no_loads.OmegaDerivative(1, Eigen::VectorXd::Zero(10), &rel, &at),
+                 std::logic_error);
     const Eigen::VectorXd v = Eigen::VectorXd::Random(10);
     for (double omega : {700.0, 2300.0}) {
       all.SetFrequency(omega);
