@@ -55,7 +55,7 @@ double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::Vecto
 // The two directions differ only in the sign of φ: one adjoint solve serves both.
 std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0,
                                     const Eigen::VectorXd& alpha0, double tolerance,
-                                    const std::array<double, 2>& signs) {
+                                    const std::array<double, 2>& signs, StartGradient* gradient) {
   RunSetup plus = s;
   plus.sign = 1.0;
   HbmEvaluation e;
@@ -66,20 +66,20 @@ std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0
   Objective(plus, x0, alpha0, e, &gx, &ga);
   // Large systems: a single-precision LU and GMRES to double accuracy (half the cost).
   const bool large = e.jacobian.rows() >= dense::kLapackMinSize;
-  dense::Lu lu;
-  lu.ComputeTransposed(e.jacobian,
-                       large ? dense::LuPrecision::kSingle : dense::LuPrecision::kDouble);
+  auto lu = std::make_shared<dense::Lu>();
+  lu->ComputeTransposed(e.jacobian,
+                        large ? dense::LuPrecision::kSingle : dense::LuPrecision::kDouble);
   bool solved = false;
-  if (!lu.exact() && lu.rcond() > 1e-6) {
+  if (!lu->exact() && lu->rcond() > 1e-6) {
     solved =
-        dense::PreconditionedGmres(e.jacobian, true, lu, false, gx, 1e-12, 20, &lambda).converged;
+        dense::PreconditionedGmres(e.jacobian, true, *lu, false, gx, 1e-12, 20, &lambda).converged;
   }
   if (!solved) {
-    if (!lu.exact()) lu.ComputeTransposed(e.jacobian);
-    if (!(lu.rcond() > 1e-12)) return {false, false};
-    lambda = lu.Solve(gx);
+    if (!lu->exact()) lu->ComputeTransposed(e.jacobian);
+    if (!(lu->rcond() > 1e-12)) return {false, false};
+    lambda = lu->Solve(gx);
   }
-  const Eigen::VectorXd g_plus = ga - e.alpha_jacobian.transpose() * lambda;
+  Eigen::VectorXd g_plus = ga - e.alpha_jacobian.transpose() * lambda;
   if (!g_plus.allFinite()) return {false, false};
   std::array<bool, 2> kkt{};
   for (int d = 0; d < 2; ++d) {
@@ -90,6 +90,11 @@ std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0
       // Minimising: at the upper bound the gradient may be negative, at the lower one positive.
       kkt[d] = at_upper ? g <= tolerance : (at_lower ? g >= -tolerance : std::abs(g) <= tolerance);
     }
+  }
+  if (gradient != nullptr) {
+    gradient->g = std::move(g_plus);
+    gradient->lambda = std::move(lambda);
+    gradient->lu = std::move(lu);
   }
   return kkt;
 }

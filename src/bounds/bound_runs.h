@@ -12,6 +12,7 @@
 
 #include "fricrom/bounds.h"
 #include "fricrom/harmonic_balance.h"
+#include "linear/dense_lapack.h"
 
 namespace fricrom::bounds_detail {
 
@@ -48,10 +49,20 @@ struct RunSetup {
 double Objective(const RunSetup& s, const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
                  const HbmEvaluation& e, Eigen::VectorXd* grad_x, Eigen::VectorXd* grad_alpha);
 
-// Whether the feasible start (x0, α0) already satisfies the first-order conditions on the box.
+// The reduced gradient of +φ/objective_scale at a start, its adjoint λ and the factorised
+// (∂R/∂x)ᵀ that solved for λ: what a run from that start needs first (times its sign), so the
+// KKT check's factorisation serves both runs instead of being made twice more.
+struct StartGradient {
+  Eigen::VectorXd g, lambda;
+  std::shared_ptr<const dense::Lu> lu;  // null: none (the run computes its own)
+};
+
+// Whether the feasible start (x0, α0) already satisfies the first-order conditions on the box;
+// `gradient` (if not null) receives what it computed, or keeps a null LU if it failed.
 std::array<bool, 2> StartIsKktPoint(const RunSetup& s, const Eigen::VectorXd& x0,
                                     const Eigen::VectorXd& alpha0, double tolerance,
-                                    const std::array<double, 2>& signs);
+                                    const std::array<double, 2>& signs,
+                                    StartGradient* gradient = nullptr);
 
 std::vector<ContactRegime> Regimes(const HarmonicBalance& sys, const Eigen::VectorXd& x,
                                    double omega, const Eigen::VectorXd& alpha);
@@ -90,9 +101,11 @@ bool StartSolution(const HarmonicBalance& sys, double freq_hz, const Eigen::Vect
                    const Eigen::VectorXd& known = Eigen::VectorXd(),
                    Eigen::VectorXd* alpha_start = nullptr);
 
-// Reduced-space run over α (reduced_bounds.cpp).
+// Reduced-space run over α (reduced_bounds.cpp); `start`, if not null and set, is the gradient
+// at (x0, a0) from StartIsKktPoint with the same setup but the sign.
 BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
-                         int seed, int max_iterations, double tolerance);
+                         int seed, int max_iterations, double tolerance,
+                         const StartGradient* start = nullptr);
 
 // Full-space runs over [x, α] by Ipopt (ipopt_bounds.cpp); one application and NLP reused over
 // the runs of a bound computation. Ipopt's types stay in that file.

@@ -294,6 +294,8 @@ struct SeedStart {
   Eigen::VectorXd alpha0;        // the α of x0: the seed's, or short of it on the α homotopy
   double objective_scale = 1.0;  // the runs' objectives are divided by this
   bool kkt[2] = {false, false};  // [min response, max response]: start is a KKT point
+  // The KKT check's gradient, kept for the runs (released once they are done).
+  bounds_detail::StartGradient gradient;
 };
 
 // Minimum response: min a², or max η; maximum response: max a², or min η.
@@ -337,9 +339,10 @@ std::vector<SeedStart> SeedStarts(const HarmonicBalance& system, double freq_hz,
     } else {
       const std::array<bool, 2> kkt =
           StartIsKktPoint(setup, st.x0, st.alpha0, options.tolerance,
-                          {RunSign(options, false), RunSign(options, true)});
+                          {RunSign(options, false), RunSign(options, true)}, &st.gradient);
       st.kkt[0] = kkt[0];
       st.kkt[1] = kkt[1];
+      if (kkt[0] && kkt[1]) st.gradient = {};
     }
   }
   return out;
@@ -472,7 +475,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
     setup.x_scale.segment(j * n, n).setConstant(std::max(block, 1e-6 * x_ref));
   }
 
-  const std::vector<SeedStart> st =
+  std::vector<SeedStart> st =
       SeedStarts(system, freq_hz, options, seeds, known_x, short_starts, setup, &result);
   // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best) and the
   // bound the caller holds, never another run's result, so the outcome does not depend on the
@@ -515,7 +518,10 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       } else {
         const bool reduced = options.method != BoundsOptions::kFullSpace;
         const bool full = options.method != BoundsOptions::kReducedSpace;
-        if (reduced) sol = RunReduced(setup, x0, st[s].alpha0, s, options.max_iterations, 1e-7);
+        if (reduced) {
+          sol =
+              RunReduced(setup, x0, st[s].alpha0, s, options.max_iterations, 1e-7, &st[s].gradient);
+        }
         if (full) {
           BoundSolution other = ipopt.Run(setup, x0, st[s].alpha0, s);
           const double sign = maximise_response ? 1.0 : -1.0;  // larger is better after the sign
@@ -530,6 +536,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       if (!tally.Add(std::move(sol), maximise_response, &result)) both = false;
     }
     if (both) ++result.seeds_converged;
+    st[s].gradient = {};  // its LU: up to 20 MB at H = 3 on the FE cascade
   }
   if (options.progress) options.progress("seeds", num_seeds, num_seeds);
   tally.Finish(&result);

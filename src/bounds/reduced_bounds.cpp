@@ -278,7 +278,8 @@ class ReducedRun {
     newton_.stall_window = 8;
   }
 
-  BoundSolution Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0);
+  BoundSolution Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                    const StartGradient* start);
 
  private:
   struct Trial {
@@ -469,11 +470,21 @@ bool ReducedRun::LineSearch(double reference, Trial* t) {
   return accepted;
 }
 
-BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0) {
+BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
+                              const StartGradient* start) {
   x_ = x0;
   a_ = a0;
   if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
-  if (!Gradient(x_, a_, &phi_, &g_, nullptr, &lu_, &lambda_)) {
+  if (start != nullptr && start->lu) {
+    // The KKT check's gradient of +φ: this run's objective is sign·φ, so are g and λ.
+    Trial t;
+    t.x = x_;
+    t.a = a_;
+    phi_ = TrialObjective(t);
+    g_ = s_.sign * start->g;
+    lambda_ = s_.sign * start->lambda;
+    lu_ = start->lu;
+  } else if (!Gradient(x_, a_, &phi_, &g_, nullptr, &lu_, &lambda_)) {
     return Finish(BoundStatus::kFailed, "singular Jacobian at the start");
   }
   step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);  // first move ≤ 0.5 in α
@@ -546,8 +557,9 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
 }  // namespace
 
 BoundSolution RunReduced(const RunSetup& s, const Eigen::VectorXd& x0, const Eigen::VectorXd& a0,
-                         int seed, int max_iterations, double tolerance) {
-  return ReducedRun(s, seed, max_iterations, tolerance).Run(x0, a0);
+                         int seed, int max_iterations, double tolerance,
+                         const StartGradient* start) {
+  return ReducedRun(s, seed, max_iterations, tolerance).Run(x0, a0, start);
 }
 
 }  // namespace fricrom::bounds_detail
