@@ -26,27 +26,36 @@ constexpr int kAdjointProducts = 16;
 // Chord iterations x ← x − J₀⁻¹ R(x) with the factorised transpose J₀ᵀ of the last accepted
 // point. Where no contact changes state between the two α the balance is linear in x (stick) or
 // nearly so, and one or two steps converge without a new factorisation. On success x solves
-// R = 0 to Newton's tolerance; on failure x is left as the best iterate (a warm start).
-// *r_start receives R at the start x, which a Newton solve from there need not evaluate again.
+// R = 0 to Newton's tolerance; on failure x is the iterate with the smallest residual (the start
+// if no step reduced it), *r_best its R: a warm start for Newton (the first chord step is
+// Newton's first step up to the Jacobian's change with α).
 bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const NewtonOptions& o,
-                Eigen::VectorXd* x, Eigen::VectorXd* r_start) {
+                Eigen::VectorXd* x, Eigen::VectorXd* r_best) {
   constexpr int kChordSteps = 4;
   const double scale = at.ResidualScale();
   Eigen::VectorXd r, x_trial, r_trial;
   at.Evaluate(*x, &r, nullptr);
-  *r_start = r;
   double norm = r.norm() / scale;
-  for (int k = 0; k < kChordSteps && std::isfinite(norm); ++k) {
-    if (norm <= o.residual_tolerance) return true;
+  bool converged = false;
+  for (int k = 0; k <= kChordSteps && std::isfinite(norm); ++k) {
+    if (norm <= o.residual_tolerance) {
+      converged = true;
+      break;
+    }
+    if (k == kChordSteps) break;
     x_trial = *x - lu_transposed.Solve(r, true);
     at.Evaluate(x_trial, &r_trial, nullptr);
     const double trial = r_trial.norm() / scale;
-    if (!(trial < 0.25 * norm)) return false;  // too slow a contraction: Newton takes over
+    if (!(trial < norm)) break;  // no progress: Newton takes over from the best iterate
     x->swap(x_trial);
     r.swap(r_trial);
+    const bool slow = !(trial < 0.25 * norm);  // too slow a contraction: Newton takes over
     norm = trial;
+    if (slow) break;
   }
-  return norm <= o.residual_tolerance;
+  if (!converged && norm <= o.residual_tolerance) converged = true;
+  *r_best = std::move(r);
+  return converged;
 }
 
 // The adjoint system (∂R/∂x)ᵀ λ = rhs by GMRES preconditioned with `lu` (a factorised (∂R/∂x)ᵀ),
@@ -393,15 +402,17 @@ void ReducedRun::EndOnBest() {
 bool ReducedRun::SolveTrial(Trial* t) {
   const HbmAtFrequency at(sys_, s_.omega, t->a);
   t->x = x_;
-  Eigen::VectorXd r_at_x;  // R(x, α_new), from the chord attempt
+  Eigen::VectorXd r_at_x;  // R at t->x (α_new), from the chord attempt
   if (chord_ && ChordSolve(at, *lu_, newton_, &t->x, &r_at_x)) {
     t->regimes = sys_.ContactRegimes(t->x, s_.omega, t->a);
     if (t->regimes == regimes_) {
       t->phi = TrialObjective(*t);
       return true;
     }
+    // A root where some contact changed its regime may lie on another branch: Newton from x_.
+    t->x = x_;
+    r_at_x.resize(0);
   }
-  t->x = x_;
   if (!SolveNewtonPreconditioned(at, newton_, NewtonPreconditioner{lu_.get(), true}, &t->x, nullptr,
                                  r_at_x.size() > 0 ? &r_at_x : nullptr)
            .IsSolutionUsable()) {
