@@ -36,13 +36,7 @@ bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const Ne
   Eigen::VectorXd r, x_trial, r_trial;
   at.Evaluate(*x, &r, nullptr);
   double norm = r.norm() / scale;
-  bool converged = false;
-  for (int k = 0; k <= kChordSteps && std::isfinite(norm); ++k) {
-    if (norm <= o.residual_tolerance) {
-      converged = true;
-      break;
-    }
-    if (k == kChordSteps) break;
+  for (int k = 0; k < kChordSteps && norm > o.residual_tolerance && std::isfinite(norm); ++k) {
     x_trial = *x - lu_transposed.Solve(r, true);
     at.Evaluate(x_trial, &r_trial, nullptr);
     const double trial = r_trial.norm() / scale;
@@ -53,9 +47,8 @@ bool ChordSolve(const SquareSystem& at, const dense::Lu& lu_transposed, const Ne
     norm = trial;
     if (slow) break;
   }
-  if (!converged && norm <= o.residual_tolerance) converged = true;
   *r_best = std::move(r);
-  return converged;
+  return norm <= o.residual_tolerance;
 }
 
 // The adjoint system (∂R/∂x)ᵀ λ = rhs by GMRES preconditioned with `lu` (a factorised (∂R/∂x)ᵀ),
@@ -307,7 +300,7 @@ class ReducedRun {
     return ValueAndGradient(s_, chord_, x, a, previous, lambda_, phi, g, lu, lambda);
   }
   bool SolveTrial(Trial* t);
-  double TrialObjective(const Trial& t) const;
+  double TrialObjective(const Eigen::VectorXd& x, const Eigen::VectorXd& a) const;
   bool CompleteTrial(Trial* t) const;
   bool TryGaussNewton(Trial* t);
   bool LineSearch(double reference, Trial* t);
@@ -406,7 +399,7 @@ bool ReducedRun::SolveTrial(Trial* t) {
   if (chord_ && ChordSolve(at, *lu_, newton_, &t->x, &r_at_x)) {
     t->regimes = sys_.ContactRegimes(t->x, s_.omega, t->a);
     if (t->regimes == regimes_) {
-      t->phi = TrialObjective(*t);
+      t->phi = TrialObjective(t->x, t->a);
       return true;
     }
     // A root where some contact changed its regime may lie on another branch: Newton from x_.
@@ -420,16 +413,15 @@ bool ReducedRun::SolveTrial(Trial* t) {
     return false;
   }
   t->regimes.clear();
-  t->phi = TrialObjective(*t);
+  t->phi = TrialObjective(t->x, t->a);
   return true;
 }
 
-// φ at a solved trial. The amplitude's is read off x; the loss factor's needs R at the point.
-double ReducedRun::TrialObjective(const Trial& t) const {
+// φ at a solved point. The amplitude's is read off x; the loss factor's needs R at the point.
+double ReducedRun::TrialObjective(const Eigen::VectorXd& x, const Eigen::VectorXd& a) const {
   HbmEvaluation e;
-  if (s_.objective != BoundsOptions::kAmplitude)
-    sys_.Evaluate(t.x, s_.omega, t.a, HbmRequest{}, &e);
-  return Objective(s_, t.x, t.a, e, nullptr, nullptr);
+  if (s_.objective != BoundsOptions::kAmplitude) sys_.Evaluate(x, s_.omega, a, HbmRequest{}, &e);
+  return Objective(s_, x, a, e, nullptr, nullptr);
 }
 
 // The gradient (adjoint, LU) of an accepted trial. Only accepted trials need it: on the FE
@@ -488,10 +480,7 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
   if (chord_) regimes_ = sys_.ContactRegimes(x_, s_.omega, a_);
   if (start != nullptr && start->lu) {
     // The KKT check's gradient of +φ: this run's objective is sign·φ, so are g and λ.
-    Trial t;
-    t.x = x_;
-    t.a = a_;
-    phi_ = TrialObjective(t);
+    phi_ = TrialObjective(x_, a_);
     g_ = s_.sign * start->g;
     lambda_ = s_.sign * start->lambda;
     lu_ = start->lu;
