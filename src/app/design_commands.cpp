@@ -87,6 +87,14 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "most this relative amount in 3 iterations in a row (default 1e-5; the search's "
                   "runs: 1e-7)")
       ->check(FractionBelowOne(false));
+  cmd->add_option("--stall-change", stall_change,
+                  "Reduced-space runs stop once their best objective improved by at most this "
+                  "relative amount over the last --stall-window iterations (default 1e-4)")
+      ->check(FractionBelowOne(true));
+  cmd->add_option("--stall-window", stall_window,
+                  "Accepted iterations the stall test looks back over (default 20); 0: no stall "
+                  "test (runs end at their other tests or the iteration limit)")
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "

@@ -45,6 +45,8 @@ struct DesignCommands::State {
   int line_search_memory = BoundsOptions{}.line_search_memory;
   double negligible_minimum = BoundsOptions{}.negligible_minimum;
   double refinement_change = BoundsOptions{}.refinement_stationary_change;
+  double stall_change = BoundsOptions{}.stall_change;
+  int stall_window = BoundsOptions{}.stall_window;
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
@@ -78,6 +80,8 @@ struct DesignCommands::State {
     o.line_search_memory = line_search_memory;
     o.negligible_minimum = negligible_minimum;
     o.refinement_stationary_change = refinement_change;
+    o.stall_change = stall_change;
+    o.stall_window = stall_window;
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
@@ -110,6 +114,8 @@ struct DesignCommands::State {
               {"line_search_memory", line_search_memory},
               {"negligible_minimum", negligible_minimum},
               {"refinement_change", refinement_change},
+              {"stall_change", stall_change},
+              {"stall_window", stall_window},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
               {"interface_seeds", interface_seeds}};

@@ -38,6 +38,10 @@ struct RunSetup {
   // A reduced-space run is stationary once its objective changes by at most this (relative)
   // in 3 accepted iterations in a row (BoundsOptions::stationary_change).
   double stationary_change = 1e-7;
+  // ... or once its best objective improved by at most stall_change (relative) over the last
+  // stall_window accepted iterations (BoundsOptions::stall_change; window 0: never).
+  double stall_change = 1e-4;
+  int stall_window = 20;
   // Minimum runs of the amplitude objective try Gauss-Newton steps towards y = 0
   // (BoundsOptions::gauss_newton_minimum).
   bool gauss_newton = false;

@@ -95,6 +95,14 @@ bool BoundsOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (!(stall_change >= 0.0 && stall_change < 1.0)) {
+    *error = "BoundsOptions.stall_change must lie in [0, 1), got " + std::to_string(stall_change);
+    return false;
+  }
+  if (stall_window < 0) {
+    *error = "BoundsOptions.stall_window must be >= 0, got " + std::to_string(stall_window);
+    return false;
+  }
   if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
     *error = "BoundsOptions.tolerance must be positive and finite";
     return false;
@@ -467,6 +475,8 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
   setup.stall_tolerance = options.tolerance;
   setup.line_search_memory = options.line_search_memory;
   setup.stationary_change = options.stationary_change;
+  setup.stall_change = options.stall_change;
+  setup.stall_window = options.stall_window;
   setup.gauss_newton =
       options.gauss_newton_minimum && options.objective == BoundsOptions::kAmplitude;
   setup.x_scale.resize(system.num_unknowns());

@@ -305,6 +305,7 @@ class ReducedRun {
   bool TryGaussNewton(Trial* t);
   bool LineSearch(double reference, Trial* t);
   bool BackToBest();
+  bool Stalled();
   void EndOnBest();
   BoundSolution Finish(BoundStatus status, const std::string& message);
 
@@ -335,7 +336,8 @@ class ReducedRun {
   const bool gauss_newton_;
   int gn_wait_ = 0;
   int gn_backoff_ = 2;
-  std::vector<double> gains_;  // decrease of the objective per accepted iteration
+  std::vector<double> gains_;         // decrease of the objective per accepted iteration
+  std::vector<double> best_history_;  // the best objective after each accepted iteration
   // Nonmonotone line search (BoundsOptions::line_search_memory): the last objectives a step is
   // measured against, and the best iterate, which the run ends on.
   int memory_;
@@ -379,6 +381,17 @@ bool ReducedRun::BackToBest() {
   step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);
   step_cap_ = std::numeric_limits<double>::infinity();
   return true;
+}
+
+// Whether the best objective improved by at most stall_change (relative) over the last
+// stall_window accepted iterations (RunSetup::stall_change), after recording the current one.
+bool ReducedRun::Stalled() {
+  if (s_.stall_window <= 0) return false;
+  best_history_.push_back(best_.phi);
+  const std::ptrdiff_t n = std::ssize(best_history_);
+  if (n <= s_.stall_window) return false;
+  const double before = best_history_[n - 1 - s_.stall_window];
+  return before - best_.phi <= s_.stall_change * std::abs(best_.phi);
 }
 
 void ReducedRun::EndOnBest() {
@@ -532,6 +545,14 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
           Finish(BoundStatus::kConverged, "reduced space: stopped at a negligible response");
       negligible.stationary = false;
       return negligible;
+    }
+    if (Stalled()) {
+      EndOnBest();
+      out_.iterations = it + 1;
+      std::ostringstream message;
+      message << "reduced space: best objective stalled (relative improvement <= "
+              << s_.stall_change << " in " << s_.stall_window << " iterations)";
+      return Finish(BoundStatus::kConverged, message.str());
     }
     recent_.push_back(phi_);
     if (std::ssize(recent_) > memory_) recent_.erase(recent_.begin());

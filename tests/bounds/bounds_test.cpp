@@ -356,6 +356,20 @@ TEST(Bounds, OptionsValidation) {
   o.method = static_cast<BoundsOptions::Method>(9);
   EXPECT_FALSE(o.IsValid(&err));
   EXPECT_NE(err.find("method"), std::string::npos);
+  for (double bad : {-0.1, 1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    o = BoundsOptions{};
+    o.stall_change = bad;
+    EXPECT_FALSE(o.IsValid(&err)) << bad;
+    EXPECT_NE(err.find("stall_change"), std::string::npos) << err;
+  }
+  o = BoundsOptions{};
+  o.stall_window = -1;
+  EXPECT_FALSE(o.IsValid(&err));
+  EXPECT_NE(err.find("stall_window"), std::string::npos) << err;
+  o = BoundsOptions{};
+  o.stall_change = 0.0;
+  o.stall_window = 0;
+  EXPECT_TRUE(o.IsValid(&err)) << err;
   o = BoundsOptions{};
   o.check_samples = -1;
   EXPECT_FALSE(o.IsValid(&err));
