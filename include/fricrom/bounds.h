@@ -94,7 +94,7 @@ struct BoundsOptions {
   // stall_window accepted iterations. Its iterates may go up and down along the kinks of the
   // response for the whole iteration limit without three quiet iterations in a row; on the FE
   // cascade's default 50-point curve such runs took a third of the optimiser's time; the test
-  // makes the curve 0.80x as long, y_max within 6.4·10⁻⁴ and the peak the same
+  // makes the curve 0.80x as long, y_max within 6.3·10⁻⁴ and the peak the same
   // (docs/bounds-and-design.md). stall_window 0: no such test.
   double stall_change = 1e-4;
   int stall_window = 20;

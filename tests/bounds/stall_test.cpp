@@ -1,38 +1,22 @@
 // The reduced-space run's stall test (BoundsOptions::stall_change, bounds/bound_runs.h).
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <string>
 
-#include "bounds/bound_runs.h"
-#include "fricrom/frf.h"
-#include "fricrom/units.h"
-#include "test_models.h"
+#include "lumped_run_start.h"
 
 namespace fricrom::bounds_detail {
 namespace {
-
-RunSetup LumpedSetup(const HbmSystem& sys, double f, double amplitude) {
-  RunSetup s;
-  s.system = &sys;
-  s.omega = RadPerS(f);
-  s.residual_scale = sys.ResidualScale();
-  s.objective_scale = amplitude * amplitude;
-  s.line_search_memory = 10;
-  s.gauss_newton = true;
-  return s;
-}
 
 // A stalled run ends on its best iterate: the run without the test, cut at the same iteration
 // (which also ends on its best), is the same point bit for bit; the stall test only decides
 // where the nonmonotone path stops. The run left to its own tests goes at least as far.
 TEST(StallTest, AStalledRunEndsOnTheBestIterateOfTheSamePath) {
-  const HbmSystem& sys = testing::BaselineH1();
-  const double f = 269.0;
-  const Eigen::Vector4d a0(-0.7, 0.2, 0.6, -0.1);
-  const FrfPoint p = SolveAtFrequency(sys, a0, f, Eigen::VectorXd(), FrfOptions());
+  const testing_runs::LumpedRunStart lumped = testing_runs::LumpedRunAt269Hz();
+  const FrfPoint& p = lumped.start;
+  const Eigen::Vector4d& a0 = lumped.a0;
   ASSERT_EQ(p.status, SolverStatus::kConverged) << p.message;
-  RunSetup s = LumpedSetup(sys, f, p.amplitude);
+  RunSetup s = lumped.setup;
   int stalled_runs = 0;
   for (double sign : {1.0, -1.0}) {
     s.sign = sign;

@@ -1,12 +1,7 @@
 // A reduced-space run started from its seed's KKT-check gradient (bounds/bound_runs.h).
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
-
-#include "bounds/bound_runs.h"
-#include "fricrom/frf.h"
-#include "fricrom/units.h"
-#include "test_models.h"
+#include "lumped_run_start.h"
 
 namespace fricrom::bounds_detail {
 namespace {
@@ -16,18 +11,11 @@ namespace {
 // that computes its own, bit for bit, in both directions. Given the gradient without the run's
 // sign, the minimum run would start uphill and end elsewhere: the test sees the sign.
 TEST(StartGradient, RunsFromTheKktChecksGradientEqualRunsFromTheirOwn) {
-  const HbmSystem& sys = testing::BaselineH1();
-  const double f = 269.0;
-  const Eigen::Vector4d a0(-0.7, 0.2, 0.6, -0.1);
-  const FrfPoint p = SolveAtFrequency(sys, a0, f, Eigen::VectorXd(), FrfOptions());
+  const testing_runs::LumpedRunStart lumped = testing_runs::LumpedRunAt269Hz();
+  const FrfPoint& p = lumped.start;
+  const Eigen::Vector4d& a0 = lumped.a0;
   ASSERT_EQ(p.status, SolverStatus::kConverged) << p.message;
-  RunSetup s;
-  s.system = &sys;
-  s.omega = RadPerS(f);
-  s.residual_scale = sys.ResidualScale();
-  s.objective_scale = p.amplitude * p.amplitude;
-  s.line_search_memory = 10;
-  s.gauss_newton = true;
+  RunSetup s = lumped.setup;
   StartGradient start;
   const std::array<bool, 2> kkt = StartIsKktPoint(s, p.x, a0, 1e-9, {1.0, -1.0}, &start);
   ASSERT_FALSE(kkt[0] || kkt[1]);
