@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "fricrom/blas_core.h"
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
 #include "fricrom/contact_law.h"
@@ -130,7 +131,9 @@ BENCHMARK(BM_ContactLaw)
 
 // One BLAS thread unless OPENBLAS_NUM_THREADS says otherwise: the CLI's setting for its
 // harmonic-balance commands (fricrom/blas_threads.h), so the figures are the ones users get.
+// OpenBLAS's kernels (and threads): the CLI's choice (fricrom/blas_core.h), as above.
 int main(int argc, char** argv) {
+  fricrom::RestartWithRecommendedBlasCore(argv);
   if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr) fricrom::SetBlasThreads(1);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

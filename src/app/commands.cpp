@@ -20,6 +20,7 @@
 #include "app/mpi_units.h"
 #include "app/reduce_commands.h"
 #include "app/result_files.h"
+#include "fricrom/blas_core.h"
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
 #include "fricrom/fe_model.h"
@@ -466,7 +467,8 @@ int Run(int argc, char** argv) {
   CLI::App app{"fricrom " + Version() +
                ": forced-response bounds of bladed assemblies with friction contacts"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", Version() + " (" + InstructionSet() + ")");
+  app.set_version_flag("--version",
+                       Version() + " (" + InstructionSet() + "; BLAS: " + BlasCoreReport() + ")");
 
   BasicCommands basic;
   basic.Register(app);

@@ -1,12 +1,16 @@
 // fricrom command-line tool; see README.md and docs/ for the commands.
 #include "app/commands.h"
 #include "app/mpi_units.h"
+#include "fricrom/blas_core.h"
 
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
 int main(int argc, char** argv) {
+  // OpenBLAS's SSE3 fallback on CPUs it does not know costs ~25 % of an FE bound: start again
+  // with its AVX2 kernels where it fell back (fricrom/blas_core.h).
+  fricrom::RestartWithRecommendedBlasCore(argv);
 #if defined(__GLIBC__)
   // The engine allocates and frees MiB-sized temporaries (dense Jacobians, receptance blocks)
   // every Newton iteration. Above glibc's mmap threshold each is mapped and unmapped again, and

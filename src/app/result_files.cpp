@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "app/cli_common.h"
+#include "fricrom/blas_core.h"
 #include "fricrom/linear.h"
 #include "fricrom/units.h"
 #include "io/atomic_file.h"
@@ -273,11 +274,12 @@ void WriteManifest(const std::filesystem::path& dir, const std::string& name,
                     {"bytes", std::filesystem::file_size(f)},
                     {"content", h.Hex()}});
   }
-  const nlohmann::json m = {{"manifest", "fricrom-manifest-1"},
-                            {"command", name},
-                            {"fricrom", Version()},
-                            {"build", {{"instruction_set", InstructionSet()}}},
-                            {"files", list}};
+  const nlohmann::json m = {
+      {"manifest", "fricrom-manifest-1"},
+      {"command", name},
+      {"fricrom", Version()},
+      {"build", {{"instruction_set", InstructionSet()}, {"blas", BlasCoreReport()}}},
+      {"files", list}};
   WriteTextAtomically(dir / (name + ".manifest.json"), m.dump(1) + "\n");
 }
 

@@ -15,12 +15,14 @@
 #include <vector>
 
 #include "app/cli_test_util.h"
+#include "fricrom/blas_core.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using fricrom::testing::CliRun;
+using fricrom::testing::Fricrom;
 using fricrom::testing::kCli;
 using fricrom::testing::Quote;
 using fricrom::testing::ReadFile;
@@ -108,6 +110,44 @@ TEST(Cli, FrfAtFixedFrequenciesWritesJsonAndFiles) {
   // ... and the build that wrote it (results of the two instruction sets differ at round-off).
   const std::string isa = m.at("build").at("instruction_set").get<std::string>();
   EXPECT_TRUE(isa == "x86-64-v3" || isa == "portable") << isa;
+  // ... and the BLAS kernels it ran on (fricrom/blas_core.h).
+  const std::string blas = m.at("build").at("blas").get<std::string>();
+  EXPECT_TRUE(blas.rfind("OpenBLAS ", 0) == 0 || blas == "not OpenBLAS") << blas;
+}
+
+// `--version` names the BLAS kernels the run uses: where OpenBLAS fell back on its SSE3 kernels
+// on an AVX2 CPU (this test process was not restarted, so it shows what OpenBLAS detects) the CLI
+// restarted itself with the Haswell kernels and says so; a core the user set, or
+// FRICROM_KEEP_BLAS_CORE=1, is kept as it is.
+TEST(Cli, VersionNamesTheBlasCoreItRunsOn) {
+  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) GTEST_SKIP() << "OPENBLAS_CORETYPE is set";
+  const std::string detected = fricrom::BlasCoreName();
+  const std::string plain =
+      detected.empty() ? "BLAS: not OpenBLAS)" : "BLAS: OpenBLAS " + detected + ")";
+  const std::string forced = fricrom::RecommendedBlasCore();
+  const CliRun r = Fricrom("--version", "2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  if (forced.empty()) {
+    EXPECT_NE(r.output.find(plain), std::string::npos) << r.output;
+  } else {
+    EXPECT_NE(
+        r.output.find("BLAS: OpenBLAS " + forced + " (forced; OpenBLAS chose " + detected + "))"),
+        std::string::npos)
+        << r.output;
+  }
+  if (detected.empty()) return;
+  const std::string cli = Quote(kCli);
+  for (const std::string& env :
+       {"OPENBLAS_CORETYPE=" + detected, std::string("FRICROM_KEEP_BLAS_CORE=1")}) {
+    FILE* p = popen(("env " + env + " " + cli + " --version 2>&1").c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    std::array<char, 512> buf;
+    for (size_t n; (n = fread(buf.data(), 1, buf.size(), p)) > 0;) out.append(buf.data(), n);
+    EXPECT_EQ(pclose(p), 0) << env;
+    EXPECT_NE(out.find(plain), std::string::npos) << env << ": " << out;
+    EXPECT_EQ(out.find("forced"), std::string::npos) << env << ": " << out;
+  }
 }
 
 // The baseline is mirror-symmetric (x -> -x maps blade1 <-> blade3, damper1 <-> damper2, contact
