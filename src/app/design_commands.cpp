@@ -95,6 +95,11 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "Accepted iterations the stall test looks back over (default 20); 0: no stall "
                   "test (runs end at their other tests or the iteration limit)")
       ->check(CLI::Range(0, 100000));
+  cmd->add_option("--dominance", dominance,
+                  "What a reduced-space run that cannot catch up is measured against before it "
+                  "is stopped: starts (the seeds' KKT starts and the bounds a curve holds) or "
+                  "runs (also the best bound of the earlier seeds' runs at the point)")
+      ->check(CLI::IsMember({"starts", "runs"}));
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "

@@ -487,11 +487,9 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
 
   std::vector<SeedStart> st =
       SeedStarts(system, freq_hz, options, seeds, known_x, short_starts, setup, &result);
-  // Phase 2: the runs. Each is told only what phase 1 found (the KKT starts' best) and the
-  // bound the caller holds, never another run's result, so the outcome does not depend on the
-  // order of the runs.
-  const double incumbent[2] = {Incumbent(st, options, 0, held[0]),
-                               Incumbent(st, options, 1, held[1])};
+  // Phase 2: the runs. Each is told what phase 1 found (the KKT starts' best) and the bound the
+  // caller holds, and with dominated_by_earlier_runs the best bound of the runs before it.
+  double incumbent[2] = {Incumbent(st, options, 0, held[0]), Incumbent(st, options, 1, held[1])};
   IpoptBounds ipopt(system, options);
   RunTally tally;
   tally.objective = options.objective;
@@ -544,6 +542,17 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
         result.optimizer_runs += (reduced ? 1 : 0) + (full ? 1 : 0);
       }
       if (!tally.Add(std::move(sol), maximise_response, &result)) both = false;
+      if (options.dominated_by_earlier_runs) {
+        // The later runs must beat the best bound so far as well (BoundsOptions).
+        const BoundSolution& b = maximise_response ? result.max : result.min;
+        const double phi = options.objective == BoundsOptions::kAmplitude
+                               ? b.amplitude * b.amplitude
+                               : b.loss_factor;
+        if (b.IsUsable() && std::isfinite(phi) &&
+            (!std::isfinite(incumbent[dir]) || setup.sign * phi < setup.sign * incumbent[dir])) {
+          incumbent[dir] = phi;
+        }
+      }
     }
     if (both) ++result.seeds_converged;
     st[s].gradient = {};  // its LU: up to 20 MB at H = 3 on the FE cascade

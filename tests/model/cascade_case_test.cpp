@@ -286,6 +286,27 @@ TEST(Cascade, RunsFromKnownSolutionsStopWhenTheyCannotReachTheBoundsHeld) {
   EXPECT_EQ(cut.min.amplitude, held.min.amplitude);
 }
 
+// BoundsOptions::dominated_by_earlier_runs: at 1103.06 Hz (H = 1, seeds 0 and -0.5·1, no sample
+// check) the minimum run from -0.5·1 crawls towards 2.447e-5 m, a local minimum 26x above the
+// 9.486e-7 m the run from 0 reached before it; measured against that run it is stopped. Without
+// the rule (every run against the seeds' KKT starts only) the same two seeds give y_min
+// 9.48589e-7 m and y_max 4.16742e-4 m with no run abandoned, in twice the time (11.2 against
+// 5.8 s, 2026-12-01) -- the reference values here, so that the test runs one search.
+TEST(Cascade, RunsDominatedByAnEarlierSeedsBoundAreAbandoned) {
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o;
+  o.check_samples = 0;
+  ASSERT_TRUE(o.stop_dominated_runs && o.dominated_by_earlier_runs);  // the defaults
+  const int n = b->num_alpha();
+  o.alpha_seeds = {Eigen::VectorXd::Zero(n), Eigen::VectorXd::Constant(n, -0.5)};
+  const BoundsResult r = ComputeBounds(*b, 1103.0612244897959, o);
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_GE(r.runs_abandoned, 1) << r.BriefReport();
+  EXPECT_EQ(r.min.seed, 0);
+  EXPECT_NEAR(r.min.amplitude, 9.48589e-7, 1e-4 * 9.48589e-7);
+  EXPECT_NEAR(r.max.amplitude, 4.16742e-4, 1e-4 * 4.16742e-4);
+}
+
 // The reduced-space runs' stationarity test (BoundsOptions::stationary_change; the harmonic
 // ladder's refinement uses refinement_stationary_change) only decides where a monotone run stops:
 // a looser one ends the same path on an earlier iterate. At 1000 Hz the run maximising from the
