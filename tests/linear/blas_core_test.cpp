@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <optional>
 #include <string>
 
 namespace {
@@ -20,6 +22,27 @@ TEST(BlasCore, OnlyTheFallbackOnAnAvx2CpuIsOverridden) {
   }
   // Not OpenBLAS (reference BLAS, or no BLAS core to report).
   EXPECT_EQ(fricrom::BlasCoreOverride("", true), "");
+}
+
+// A core set in the environment is the user's choice, or the mark of a restart that set it:
+// nothing is recommended then, so a restart never repeats itself.
+TEST(BlasCore, NothingIsRecommendedOnceOpenblasCoretypeIsSet) {
+  const char* before = std::getenv("OPENBLAS_CORETYPE");
+  const std::optional<std::string> saved =
+      before ? std::optional<std::string>(before) : std::nullopt;
+  ASSERT_EQ(setenv("OPENBLAS_CORETYPE", "Prescott", 1), 0);
+  EXPECT_EQ(fricrom::RecommendedBlasCore(), "");
+  fricrom::RestartWithRecommendedBlasCore(nullptr);  // no argv: returns at once
+  if (saved) {
+    setenv("OPENBLAS_CORETYPE", saved->c_str(), 1);
+  } else {
+    unsetenv("OPENBLAS_CORETYPE");
+  }
+  // Without it, the recommendation is the pure rule applied to this machine.
+  if (!saved) {
+    EXPECT_EQ(fricrom::RecommendedBlasCore(),
+              fricrom::BlasCoreOverride(fricrom::BlasCoreName(), fricrom::CpuHasAvx2Fma()));
+  }
 }
 
 TEST(BlasCore, ReportNamesTheLibrary) {
