@@ -77,8 +77,8 @@ inline Model BouncingOscillator(double force) {
   ct.kt = 1e3;
   ct.mu = 0.0;
   model.contacts.push_back(ct);
-  model.loads.push_back(HarmonicLoad{0, Eigen::Vector2d(10.0, 0.0), Eigen::Vector2d::Zero()});
-  model.loads.push_back(HarmonicLoad{1, Eigen::Vector2d(force, 0.0), Eigen::Vector2d::Zero()});
+  model.loads.push_back(HarmonicLoad{0, Eigen::VectorXd{{10.0, 0.0}}, Eigen::VectorXd::Zero(2)});
+  model.loads.push_back(HarmonicLoad{1, Eigen::VectorXd{{force, 0.0}}, Eigen::VectorXd::Zero(2)});
   model.response_dof = 0;
   model.free_dofs = {0, 1};
   return model;

@@ -47,6 +47,9 @@ bool NewtonOptions::IsValid(std::string* error) const {
   if (!(krylov_tolerance > 0.0 && krylov_tolerance < 1.0)) {
     return bad("krylov_tolerance must lie in (0, 1)");
   }
+  if (!(krylov_oversolve >= 0.0 && std::isfinite(krylov_oversolve))) {
+    return bad("krylov_oversolve must be finite and >= 0");
+  }
   return true;
 }
 
@@ -248,9 +251,12 @@ NewtonSummary RunNewton(const SquareSystem& system, const NewtonOptions& options
     ++summary.iterations;
     Eigen::VectorXd dx;
     // Inexact Newton (Eisenstat & Walker's second forcing term): a loose linear solve while
-    // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in.
+    // ‖R‖ falls slowly, down to krylov_tolerance as the iteration closes in, but never past
+    // what the residual tolerance needs (krylov_oversolve).
     const double ratio = previous_norm > 0.0 ? norm / previous_norm : 1.0;
-    const double forcing = std::clamp(0.9 * ratio * ratio, options.krylov_tolerance, 0.1);
+    const double enough = options.krylov_oversolve * options.residual_tolerance / norm;
+    const double forcing =
+        std::clamp(std::max(0.9 * ratio * ratio, enough), options.krylov_tolerance, 0.1);
     if (!stepper.Step(*x, forcing, &r, &dx, &summary)) return summary;
     if (!dx.allFinite()) {
       summary.status = SolverStatus::kSingular;

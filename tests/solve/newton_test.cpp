@@ -109,6 +109,39 @@ TEST(Newton, ReusedFactorisationsReachTheSameRoot) {
   EXPECT_LE(r.norm(), NewtonOptions{}.residual_tolerance);
 }
 
+// GMRES steps are solved no further than the residual tolerance needs (krylov_oversolve): a
+// warm start near the root (as the bound optimiser's line-search solves are) takes fewer products
+// for the same root, its residual still within the tolerance.
+// CubicSystem with tolerances relative to |b|: far above its round-off floor.
+struct RelativeCubicSystem : CubicSystem {
+  RelativeCubicSystem() : CubicSystem(240) {}
+  double ResidualScale() const override { return b.norm(); }
+};
+
+TEST(Newton, StepsAreNotSolvedPastTheResidualTolerance) {
+  const RelativeCubicSystem sys;
+  Eigen::VectorXd root = Eigen::VectorXd::Zero(240), r;
+  ASSERT_TRUE(SolveNewton(sys, NewtonOptions{}, &root).IsSolutionUsable());
+  Eigen::MatrixXd j;
+  sys.Evaluate(root, &r, &j);
+  const dense::Lu lu(j, dense::LuPrecision::kSingle);
+  const Eigen::VectorXd start = root + 1e-6 * root.norm() * Eigen::VectorXd::Random(240);
+  NewtonOptions strict;
+  strict.krylov_oversolve = 0.0;  // the bare Eisenstat-Walker forcing, down to 1e-9
+  Eigen::VectorXd x_strict = start, x_enough = start;
+  const NewtonPreconditioner m{&lu, false};
+  const NewtonSummary ss = SolveNewtonPreconditioned(sys, strict, m, &x_strict);
+  const NewtonSummary se = SolveNewtonPreconditioned(sys, NewtonOptions{}, m, &x_enough);
+  ASSERT_TRUE(ss.IsSolutionUsable()) << ss.BriefReport();
+  ASSERT_TRUE(se.IsSolutionUsable()) << se.BriefReport();
+  EXPECT_GT(se.krylov_iterations, 0);
+  EXPECT_LT(se.krylov_iterations, ss.krylov_iterations) << ss.BriefReport() << "\n"
+                                                        << se.BriefReport();
+  EXPECT_EQ(se.iterations, ss.iterations);
+  EXPECT_LE(se.final_residual, NewtonOptions{}.residual_tolerance) << se.BriefReport();
+  EXPECT_LT((x_enough - root).norm(), 1e-10 * root.norm());
+}
+
 // A caller's factorisation of a nearby Jacobian (here: at the root, transposed as the bound
 // optimiser keeps it) lets a warm-started solve finish without an LU of its own.
 TEST(Newton, CallerPreconditionerSavesTheFactorisation) {
@@ -257,6 +290,10 @@ TEST(Newton, InvalidOptionsAndSizesThrow) {
   k = NewtonOptions{};
   k.krylov_max_iterations = 0;
   EXPECT_FALSE(k.IsValid(&err));
+  k = NewtonOptions{};
+  k.krylov_oversolve = -0.5;
+  EXPECT_FALSE(k.IsValid(&err));
+  EXPECT_NE(err.find("krylov_oversolve"), std::string::npos);
 }
 
 }  // namespace
