@@ -109,15 +109,15 @@ TEST(Newton, ReusedFactorisationsReachTheSameRoot) {
   EXPECT_LE(r.norm(), NewtonOptions{}.residual_tolerance);
 }
 
-// GMRES steps are solved no further than the residual tolerance needs (krylov_oversolve): a
-// warm start near the root (as the bound optimiser's line-search solves are) takes fewer products
-// for the same root, its residual still within the tolerance.
 // CubicSystem with tolerances relative to |b|: far above its round-off floor.
 struct RelativeCubicSystem : CubicSystem {
   RelativeCubicSystem() : CubicSystem(240) {}
   double ResidualScale() const override { return b.norm(); }
 };
 
+// GMRES steps are solved no further than the residual tolerance needs (krylov_oversolve): a
+// warm start near the root (as the bound optimiser's line-search solves are) takes fewer products
+// for the same root, its residual still within the tolerance.
 TEST(Newton, StepsAreNotSolvedPastTheResidualTolerance) {
   const RelativeCubicSystem sys;
   Eigen::VectorXd root = Eigen::VectorXd::Zero(240), r;
