@@ -53,7 +53,7 @@ inline Model JenkinsOscillator(double m, double k, double c, double kt, double m
   ct.mu = mu;
   ct.normal_preload = n0;
   model.contacts.push_back(ct);
-  model.loads.push_back(HarmonicLoad{1, Eigen::Vector2d(force, 0.0), Eigen::Vector2d::Zero()});
+  model.loads.push_back(HarmonicLoad{1, Eigen::VectorXd{{force, 0.0}}, Eigen::VectorXd::Zero(2)});
   model.response_dof = 0;
   model.free_dofs = {0, 1};
   return model;

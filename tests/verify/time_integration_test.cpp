@@ -343,7 +343,7 @@ TEST(ImplicitModal, WindowedAmplitudeSeesThroughUndampedFreeVibration) {
   const double w1 = kTwoPi * 10.0, w2 = kTwoPi * 13.0;
   model.stiffness = phi * Eigen::Vector2d(w1 * w1, w2 * w2).asDiagonal() * phi.transpose();
   model.damping = phi * Eigen::Vector2d(2 * 0.02 * w1, 0.0).asDiagonal() * phi.transpose();
-  model.loads.push_back(HarmonicLoad{1, Eigen::Vector2d(100.0, 0.0), Eigen::Vector2d::Zero()});
+  model.loads.push_back(HarmonicLoad{1, Eigen::VectorXd{{100.0, 0.0}}, Eigen::VectorXd::Zero(2)});
   model.response_dof = 0;
   model.free_dofs = {0, 1};
   TimeIntegrationOptions o = Implicit(11.5, 1e6);
