@@ -39,6 +39,10 @@ void MatVec(const Eigen::MatrixXd& a, bool transpose, const Eigen::VectorXd& x, 
 void MatVec(const Eigen::MatrixXcd& a, bool adjoint, const Eigen::VectorXcd& x,
             Eigen::VectorXcd* y);
 
+// y = a x for a symmetric a of which only the upper triangle is read (dsymv for large a, Eigen
+// below the size): half the memory traffic of MatVec, which bounds these products.
+void SymmetricMatVec(const Eigen::MatrixXd& a, const Eigen::VectorXd& x, Eigen::VectorXd* y);
+
 // LU with partial pivoting of a square matrix: dgetrf/dgetrs, or Eigen below the size.
 // Columns that are unit outside a few rows (a(:, s) = d_s e_s + entries in rows M, with no s in
 // M — e.g. the harmonic unknowns of fully stuck contacts in the condensed balance, which couple

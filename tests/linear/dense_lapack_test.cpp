@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <complex>
 #include <cstdlib>
 #include <stdexcept>
@@ -273,6 +274,32 @@ TEST_P(DenseLapackSizes, MatVecMatchesEigen) {
   MatVec(c, true, zt, &w);
   EXPECT_LT((w - c.adjoint() * zt).norm(), 1e-13 * (c.adjoint() * zt).norm());
   EXPECT_THROW(MatVec(a, false, xt, &y), std::invalid_argument);
+}
+
+TEST_P(DenseLapackSizes, SymmetricMatVecReadsTheUpperTriangleOnly) {
+  const int n = GetParam();
+  const Eigen::MatrixXd r = testing::SeededRandom(n, n, 14);
+  const Eigen::MatrixXd a = r + r.transpose();
+  const Eigen::VectorXd x = testing::SeededRandom(n, 1, 15);
+  Eigen::MatrixXd upper = a;
+  upper.triangularView<Eigen::StrictlyLower>().setConstant(std::nan(""));
+  Eigen::VectorXd y;
+  SymmetricMatVec(upper, x, &y);
+  ASSERT_TRUE(y.allFinite());
+  EXPECT_LT((y - a * x).norm(), 1e-13 * (a * x).norm());
+  EXPECT_THROW(SymmetricMatVec(a, testing::SeededRandom(n + 1, 1, 16), &y), std::invalid_argument);
+  EXPECT_THROW(SymmetricMatVec(testing::SeededRandom(n, n + 1, 17), x, &y), std::invalid_argument);
+}
+
+TEST_P(DenseLapackSizes, ProductWithOneColumnMatchesEigen) {
+  const int n = GetParam();
+  const Eigen::MatrixXd a = testing::SeededRandom(n, n + 7, 18);
+  const Eigen::MatrixXd x = testing::SeededRandom(n + 7, 1, 19),
+                        xt = testing::SeededRandom(n, 1, 20);
+  EXPECT_LT((Product(a, false, x, false) - a * x).norm(), 1e-13 * (a * x).norm());
+  EXPECT_LT((Product(a, true, xt, false) - a.transpose() * xt).norm(),
+            1e-13 * (a.transpose() * xt).norm());
+  EXPECT_THROW(Product(a, false, xt, false), std::invalid_argument);
 }
 
 TEST_P(DenseLapackSizes, SingularMatrixHasZeroOrTinyRcond) {
