@@ -181,8 +181,9 @@ void HarmonicReceptance::GTimes(int h, const Eigen::VectorXd& v, bool transposed
   const int nr = num_relative();
   if (Formed(h) == 0) {
     // The modal G_0 = W Λ⁻¹ Wᵀ is symmetric to the bit (WeightedGram): its upper triangle serves
-    // both products at half the memory traffic (FE bound curve: 7 % of the time in these).
-    if (method_ == ReceptanceMethod::kModal) {
+    // both products at half the memory traffic (FE bound curve: 7 % of the time in these). Small
+    // (lumped) systems keep the general product, and their results to the bit.
+    if (method_ == ReceptanceMethod::kModal && nr >= dense::kLapackMinSize) {
       dense::SymmetricMatVec(g_[0], v, out);
     } else {
       dense::MatVec(g_[0], transposed, v, out);
