@@ -136,13 +136,16 @@ Eigen::MatrixXd Product(const Eigen::MatrixXd& a, bool transpose_a, const Eigen:
       c.noalias() = a * b;
     return c;
   }
-  if (n == 1 && !transpose_b) {
-    // A matrix-vector product: dgemv streams a once, where dgemm would first pack it (the
-    // Schur-complement blocks of a double LU's solves: 3 % of an FE bound curve).
+  if (n <= 2 && !transpose_b) {
+    // One or two columns: a dgemv per column streams a, where dgemm would first pack it (the
+    // Schur-complement blocks of a double LU's solves, 3 % of an FE bound curve, and the modal
+    // receptance's products through W: 1.6x faster at 324 x 862 with two columns).
     const int ar = static_cast<int>(a.rows()), ac = static_cast<int>(a.cols()), one_i = 1;
     const double one = 1.0, zero = 0.0;
-    dgemv_(transpose_a ? "T" : "N", &ar, &ac, &one, a.data(), &ar, b.data(), &one_i, &zero,
-           c.data(), &one_i, 1);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      dgemv_(transpose_a ? "T" : "N", &ar, &ac, &one, a.data(), &ar, b.col(j).data(), &one_i, &zero,
+             c.col(j).data(), &one_i, 1);
+    }
     return c;
   }
   const int im = static_cast<int>(m), in = static_cast<int>(n), ik = static_cast<int>(k);

@@ -291,15 +291,17 @@ TEST_P(DenseLapackSizes, SymmetricMatVecReadsTheUpperTriangleOnly) {
   EXPECT_THROW(SymmetricMatVec(testing::SeededRandom(n, n + 1, 17), x, &y), std::invalid_argument);
 }
 
-TEST_P(DenseLapackSizes, ProductWithOneColumnMatchesEigen) {
+TEST_P(DenseLapackSizes, ProductWithOneOrTwoColumnsMatchesEigen) {
   const int n = GetParam();
   const Eigen::MatrixXd a = testing::SeededRandom(n, n + 7, 18);
-  const Eigen::MatrixXd x = testing::SeededRandom(n + 7, 1, 19),
-                        xt = testing::SeededRandom(n, 1, 20);
-  EXPECT_LT((Product(a, false, x, false) - a * x).norm(), 1e-13 * (a * x).norm());
-  EXPECT_LT((Product(a, true, xt, false) - a.transpose() * xt).norm(),
-            1e-13 * (a.transpose() * xt).norm());
-  EXPECT_THROW(Product(a, false, xt, false), std::invalid_argument);
+  for (int cols : {1, 2}) {
+    const Eigen::MatrixXd x = testing::SeededRandom(n + 7, cols, 19),
+                          xt = testing::SeededRandom(n, cols, 20);
+    EXPECT_LT((Product(a, false, x, false) - a * x).norm(), 1e-13 * (a * x).norm());
+    EXPECT_LT((Product(a, true, xt, false) - a.transpose() * xt).norm(),
+              1e-13 * (a.transpose() * xt).norm());
+    EXPECT_THROW(Product(a, false, xt, false), std::invalid_argument);
+  }
 }
 
 TEST_P(DenseLapackSizes, SingularMatrixHasZeroOrTinyRcond) {
