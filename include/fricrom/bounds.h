@@ -116,6 +116,18 @@ struct BoundsOptions {
   // step the next waits 2, 4, ... 64 iterations, so that runs towards a minimum y ≠ 0 lose
   // little. False: projected gradient only (every run before 2026-11-28, fourteenth session).
   bool gauss_newton_minimum = true;
+  // > 0: maximum runs (reduced space) step along a limited-memory BFGS direction on the free α
+  // (those the gradient does not hold at a bound; the two-loop recursion of Nocedal 1980 over
+  // the last maximum_bfgs_memory accepted steps with positive curvature), backtracking from the
+  // full step, instead of the projected gradient with Barzilai-Borwein steps. Another path to
+  // other local maxima, not a better one everywhere: on the coarse FE cascade 20 single bounds
+  // (4 frequencies x 5 gamma, H = 3) gave y_max higher at 6 (up to +3.3 %), lower at 6 (down to
+  // -4.0 %), the same at 8, in the same time; the default 50-point curve y_max higher at 19
+  // points (up to +7.9 %), lower at 6 (down to -2.3 %), 1.03x the time. A second opinion on
+  // a maximum (CLI --max-bfgs-memory 5; docs/bounds-and-design.md). Minimum runs always take
+  // the gradient (with BFGS they lost the deep minima the Gauss-Newton steps find). 0
+  // (default): the gradient only.
+  int maximum_bfgs_memory = 0;
   Objective objective = kAmplitude;
   // Sample check: after the optimisation, the response is solved at this many random α (fixed
   // seed below). A sample beyond a bound proves that bound a local optimum only: the optimiser

@@ -95,6 +95,12 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "Accepted iterations the stall test looks back over (default 20); 0: no stall "
                   "test (runs end at their other tests or the iteration limit)")
       ->check(CLI::Range(0, 100000));
+  cmd->add_option("--max-bfgs-memory", maximum_bfgs_memory,
+                  "Maximum runs step along limited-memory BFGS directions built from the last N "
+                  "accepted steps: another path to the local maxima, a second opinion on y_max "
+                  "(e.g. 5); 0 (default): the projected gradient with Barzilai-Borwein steps, "
+                  "which the minimum runs always take")
+      ->check(CLI::Range(0, 100));
   cmd->add_option("--dominance", dominance,
                   "What a reduced-space run that cannot catch up is measured against before it "
                   "is stopped: starts (the seeds' KKT starts and the bounds a curve holds) or "

@@ -47,6 +47,7 @@ struct DesignCommands::State {
   double refinement_change = BoundsOptions{}.refinement_stationary_change;
   double stall_change = BoundsOptions{}.stall_change;
   int stall_window = BoundsOptions{}.stall_window;
+  int maximum_bfgs_memory = BoundsOptions{}.maximum_bfgs_memory;
   std::string dominance = BoundsOptions{}.dominated_by_earlier_runs ? "runs" : "starts";
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
@@ -83,6 +84,7 @@ struct DesignCommands::State {
     o.refinement_stationary_change = refinement_change;
     o.stall_change = stall_change;
     o.stall_window = stall_window;
+    o.maximum_bfgs_memory = maximum_bfgs_memory;
     o.dominated_by_earlier_runs = dominance == "runs";
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
@@ -118,6 +120,7 @@ struct DesignCommands::State {
               {"refinement_change", refinement_change},
               {"stall_change", stall_change},
               {"stall_window", stall_window},
+              {"maximum_bfgs_memory", maximum_bfgs_memory},
               {"dominance", dominance},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},

@@ -45,6 +45,9 @@ struct RunSetup {
   // Minimum runs of the amplitude objective try Gauss-Newton steps towards y = 0
   // (BoundsOptions::gauss_newton_minimum).
   bool gauss_newton = false;
+  // Reduced-space runs step along limited-memory BFGS directions built from this many accepted
+  // steps instead of the projected gradient (BoundsOptions::maximum_bfgs_memory; 0: gradient).
+  int bfgs_memory = 0;
 };
 
 // The run's objective sign·φ(x, α)/objective_scale (φ = a1² + b1² of the response DOF, or η) and,

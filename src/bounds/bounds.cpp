@@ -99,6 +99,11 @@ bool BoundsOptions::IsValid(std::string* error) const {
     *error = "BoundsOptions.stall_change must lie in [0, 1), got " + std::to_string(stall_change);
     return false;
   }
+  if (maximum_bfgs_memory < 0 || maximum_bfgs_memory > 100) {
+    *error = "BoundsOptions.maximum_bfgs_memory must lie in [0, 100], got " +
+             std::to_string(maximum_bfgs_memory);
+    return false;
+  }
   if (stall_window < 0) {
     *error = "BoundsOptions.stall_window must be >= 0, got " + std::to_string(stall_window);
     return false;
@@ -505,6 +510,7 @@ BoundsResult OptimiseBounds(const HarmonicBalance& system, double freq_hz,
       if ((mask & (1 << dir)) == 0) continue;
       const bool maximise_response = dir == 1;
       setup.sign = RunSign(options, maximise_response);
+      setup.bfgs_memory = maximise_response ? options.maximum_bfgs_memory : 0;
       setup.incumbent = options.stop_dominated_runs && std::isfinite(incumbent[dir])
                             ? setup.sign * incumbent[dir] / setup.objective_scale
                             : std::numeric_limits<double>::quiet_NaN();

@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "bound_runs.h"
+#include "box_lbfgs.h"
 #include "fricrom/frf.h"
 #include "fricrom/solve.h"
+#include "gauss_newton_target.h"
 #include "linear/dense_lapack.h"
 #include "linear/gmres.h"
 #include "solve/newton_preconditioned.h"
@@ -192,58 +194,6 @@ bool QuadratureGradient(const RunSetup& s, const Eigen::VectorXd& x, const Eigen
   return jq->allFinite();
 }
 
-// The Gauss-Newton target for y(α) → 0 on the box: the least-norm δ with g·δ = −2φ (g = ∇φ, so
-// that the linearised |y|² vanishes along the phasor) and jq·δ = 0 (nor does it turn), entries
-// that would leave [−1, 1] fixed at the bound they cross and the rest solved again. Where the
-// two rows are nearly parallel (the α cannot turn the phasor) the second is dropped. False if
-// no step remains.
-bool GaussNewtonTarget(const Eigen::VectorXd& a, const Eigen::VectorXd& g, double phi,
-                       const Eigen::VectorXd& jq, Eigen::VectorXd* target) {
-  const Eigen::Index n = a.size();
-  const double gn = g.norm(), qn = jq.norm();
-  if (!(gn > 0.0) || !std::isfinite(gn)) return false;
-  Eigen::MatrixXd rows(2, n);
-  rows.row(0) = g.transpose() / gn;
-  rows.row(1) = qn > 0.0 && std::isfinite(qn) ? Eigen::RowVectorXd(jq.transpose() / qn)
-                                              : Eigen::RowVectorXd::Zero(n);
-  const Eigen::Vector2d rhs(-2.0 * phi / gn, 0.0);
-  Eigen::VectorXd delta = Eigen::VectorXd::Zero(n);
-  Eigen::Array<bool, Eigen::Dynamic, 1> fixed = Eigen::Array<bool, Eigen::Dynamic, 1>::Zero(n);
-  for (int round = 0; round < 20; ++round) {
-    Eigen::MatrixXd free_rows = rows;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (fixed[i]) free_rows.col(i).setZero();
-    }
-    const Eigen::Vector2d r = rhs - (rows - free_rows) * delta;
-    Eigen::Matrix2d gram = free_rows * free_rows.transpose();
-    const bool turns = gram(0, 0) * gram(1, 1) - gram(0, 1) * gram(1, 0) >
-                       1e-8 * std::max(gram(0, 0) * gram(1, 1), 1e-300);
-    Eigen::VectorXd d;
-    if (turns) {
-      d = free_rows.transpose() * gram.ldlt().solve(r);
-    } else if (gram(0, 0) > 1e-24) {
-      d = free_rows.row(0).transpose() * (r[0] / gram(0, 0));
-    } else {
-      return false;
-    }
-    bool clipped = false;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (fixed[i]) continue;
-      const double to = a[i] + d[i];
-      if (to > 1.0 || to < -1.0) {
-        fixed[i] = true;
-        delta[i] = std::clamp(to, -1.0, 1.0) - a[i];
-        clipped = true;
-      } else {
-        delta[i] = d[i];
-      }
-    }
-    if (!clipped) break;
-  }
-  *target = (a + delta).cwiseMax(-1.0).cwiseMin(1.0);
-  return (*target - a).lpNorm<Eigen::Infinity>() > 1e-14;
-}
-
 // Whether a run at objective phi (after gains.size() iterations with these decreases) is
 // dominated by `incumbent` (RunSetup): judged after kJudgeAfter iterations, against kGainMargin
 // times the best decrease per iteration over the last kJudgeAfter (the rate it crawls at now,
@@ -257,7 +207,8 @@ bool Dominated(double incumbent, double phi, const std::vector<double>& gains, i
 }
 
 // One reduced-space run (RunReduced): projected gradient over the α box with Barzilai-Borwein
-// steps and a (nonmonotone) Armijo backtracking; x(α) by chord steps or Newton warm-started at the
+// steps (maximum runs: limited-memory BFGS directions, RunSetup::bfgs_memory) and a
+// (nonmonotone) Armijo backtracking; x(α) by chord steps or Newton warm-started at the
 // last iterate, so that every iterate satisfies R = 0; the reduced gradient
 // g = ∂φ/∂α − (∂R/∂α)ᵀ(∂R/∂x)⁻ᵀ∂φ/∂x by one adjoint solve.
 class ReducedRun {
@@ -271,7 +222,8 @@ class ReducedRun {
         // systems keep plain Newton and a new LU per point.
         chord_(sys_.num_unknowns() >= dense::kLapackMinSize),
         gauss_newton_(s.gauss_newton && s.objective == BoundsOptions::kAmplitude && s.sign > 0.0),
-        memory_(std::max(s.line_search_memory, 1)) {
+        memory_(std::max(s.line_search_memory, 1)),
+        bfgs_(s.bfgs_memory) {
     out_.seed = seed;
     // A line-search solve that stalls is ended early: its trial step is halved anyway. On the
     // FE cascade (1082.65 and 1103.06 Hz) 1 of 2375 line-search solves that converged had
@@ -304,6 +256,7 @@ class ReducedRun {
   bool CompleteTrial(Trial* t) const;
   bool TryGaussNewton(Trial* t);
   bool LineSearch(double reference, Trial* t);
+  bool BfgsLineSearch(double reference, Trial* t);
   bool BackToBest();
   bool Stalled();
   void EndOnBest();
@@ -342,6 +295,11 @@ class ReducedRun {
   // measured against, and the best iterate, which the run ends on.
   int memory_;
   std::vector<double> recent_;
+  // Quasi-Newton directions (RunSetup::bfgs_memory > 0) and the cap on their moves in α (inf
+  // norm): after an iteration with a failed solve the accepted move, doubled with every
+  // iteration without one (the role step_cap_ plays for the gradient steps).
+  BoxLbfgs bfgs_;
+  double move_cap_ = std::numeric_limits<double>::infinity();
   struct Iterate {
     Eigen::VectorXd x, a, g, lambda;
     double phi = 0.0;
@@ -380,6 +338,8 @@ bool ReducedRun::BackToBest() {
   quiet_ = 0;
   step_ = 0.5 / std::max(g_.lpNorm<Eigen::Infinity>(), 1e-300);
   step_cap_ = std::numeric_limits<double>::infinity();
+  move_cap_ = std::numeric_limits<double>::infinity();
+  bfgs_.Clear();
   return true;
 }
 
@@ -471,9 +431,28 @@ bool ReducedRun::TryGaussNewton(Trial* t) {
   return false;
 }
 
+// Backtracking along the projected path α + τd, d the BFGS direction, from τ = 1 (or the move
+// cap), each trial measured against `reference`. t->step is the move of the last trial (inf
+// norm).
+bool ReducedRun::BfgsLineSearch(double reference, Trial* t) {
+  const Eigen::VectorXd d = bfgs_.Direction(a_, g_, step_);
+  const double d_norm = d.lpNorm<Eigen::Infinity>();
+  double tau = d_norm > move_cap_ ? move_cap_ / d_norm : 1.0;
+  bool accepted = false;
+  for (int bt = 0; bt < 40 && !accepted; ++bt, tau *= 0.5) {
+    t->a = (a_ + tau * d).cwiseMax(-1.0).cwiseMin(1.0);
+    if ((t->a - a_).lpNorm<Eigen::Infinity>() <= 1e-14) break;
+    if (!SolveTrial(t)) continue;
+    accepted = t->phi <= reference - 1e-4 * g_.dot(a_ - t->a) && CompleteTrial(t);
+    t->step = (t->a - a_).lpNorm<Eigen::Infinity>();
+  }
+  return accepted;
+}
+
 // Backtracking along the projected-gradient path from step_, each trial measured against
 // `reference` (the largest recent objective). On return step_ is half the last step tried.
 bool ReducedRun::LineSearch(double reference, Trial* t) {
+  if (s_.bfgs_memory > 0) return BfgsLineSearch(reference, t);
   bool accepted = false;
   t->step = step_;
   for (int bt = 0; bt < 40 && !accepted; ++bt, step_ *= 0.5) {
@@ -568,8 +547,13 @@ BoundSolution ReducedRun::Run(const Eigen::VectorXd& x0, const Eigen::VectorXd& 
     const double sy = ds.dot(dg);
     step_ =
         sy > 0.0 ? std::clamp(ds.squaredNorm() / sy, 1e-8, 1e8) : 4.0 * step_;  // Barzilai-Borwein
-    step_cap_ = t.newton_failed ? t.step : 2.0 * step_cap_;
-    step_ = std::min(step_, step_cap_);
+    if (s_.bfgs_memory > 0) {
+      bfgs_.Push(ds, dg);
+      move_cap_ = t.newton_failed ? ds.lpNorm<Eigen::Infinity>() : 2.0 * move_cap_;
+    } else {
+      step_cap_ = t.newton_failed ? t.step : 2.0 * step_cap_;
+      step_ = std::min(step_, step_cap_);
+    }
   }
   EndOnBest();
   return Finish(BoundStatus::kMaxIterations, "reduced space: iteration limit");

@@ -214,6 +214,14 @@ TEST(Cli, LineSearchMemoryOutOfRangeIsAnError) {
   }
 }
 
+TEST(Cli, MaxBfgsMemoryOutOfRangeIsAnError) {
+  for (const char* bad : {"-1", "101", "x"}) {
+    const CliRun r = Stderr("bounds " + Quote(kBaseline) + " --freq 266 --max-bfgs-memory " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.output.find("--max-bfgs-memory"), std::string::npos) << r.output;
+  }
+}
+
 TEST(Cli, NegligibleMinimumOutsideZeroToOneIsAnError) {
   for (const char* bad : {"1", "-0.1", "nan", "x"}) {
     const CliRun r =

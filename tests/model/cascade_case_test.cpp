@@ -356,5 +356,27 @@ TEST(Cascade, GaussNewtonStepsBringTheResponseToRestWhereAlphaCan) {
   EXPECT_EQ(gn.max.amplitude, pg.max.amplitude);
 }
 
+// BoundsOptions::maximum_bfgs_memory: at 1086.73 Hz (H = 1, seed 0, no sample check) the
+// projected-gradient maximum run zig-zags to the 200-iteration limit (no bound); the BFGS run
+// stops, converged, after 51 iterations at y_max 6.12150e-5 m (2026-12-02). (Elsewhere the
+// gradient finds the higher maximum: BoundsOptions.)
+TEST(Cascade, MaximumRunsWithBfgsDirectionsConvergeWhereTheGradientCrawls) {
+  const auto b = CoarseBalanceAtH1();
+  BoundsOptions o;
+  o.check_samples = 0;
+  o.alpha_seeds = {Eigen::VectorXd::Zero(b->num_alpha())};
+  ASSERT_EQ(o.maximum_bfgs_memory, 0);  // the default: the gradient
+  const BoundsResult pg = ComputeBounds(*b, 1086.734693877551, o);
+  o.maximum_bfgs_memory = 5;
+  const BoundsResult bfgs = ComputeBounds(*b, 1086.734693877551, o);
+  EXPECT_EQ(pg.max.status, BoundStatus::kMaxIterations) << pg.max.message;
+  EXPECT_TRUE(std::isnan(pg.max.amplitude));  // a failed bound is never a number
+  ASSERT_TRUE(bfgs.max.IsUsable()) << bfgs.max.message;
+  EXPECT_LT(bfgs.max.iterations, 100);
+  EXPECT_NEAR(bfgs.max.amplitude, 6.12150e-5, 1e-4 * 6.12150e-5);
+  // The minimum runs keep the projected gradient: the same path either way.
+  EXPECT_EQ(bfgs.min.amplitude, pg.min.amplitude);
+}
+
 }  // namespace
 }  // namespace fricrom
