@@ -116,7 +116,6 @@ class CondensedSystem : public HarmonicBalance {
     bool displacement = false, alpha_derivative = false;
   };
   mutable ForceMemo memo_;
-  void ResetOwnCaches() const override;  // the receptance's state at ω, the force memo
 };
 
 }  // namespace fricrom

@@ -138,15 +138,6 @@ class HarmonicBalance {
   // This system's x from x_low of one with fewer harmonics: its coefficients, the higher harmonics
   // zero (every balance here orders x harmonic-major in equal blocks). Throws on a size mismatch.
   Eigen::VectorXd EmbedLowerHarmonics(const Eigen::VectorXd& x_low, int low_harmonics) const;
-  // Every cache of this balance (and of its FirstHarmonicBalance) back to the state of a new
-  // one, so that what it computes next does not depend on what it computed before: the modal
-  // receptance forms Ĝ_h only after some products at one ω, which differ from the formed one's
-  // in the last bits, and an optimiser's path can amplify those. BalancePool calls it for every
-  // lease, so a curve's points are the same on any number of threads or ranks, and resumed.
-  void ResetCaches() const;
-
- protected:
-  virtual void ResetOwnCaches() const {}
 
  private:
   mutable std::unique_ptr<HarmonicBalance> first_harmonic_;

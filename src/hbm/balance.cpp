@@ -54,11 +54,6 @@ const HarmonicBalance* HarmonicBalance::FirstHarmonicBalance() const {
   return first_harmonic_.get();
 }
 
-void HarmonicBalance::ResetCaches() const {
-  ResetOwnCaches();
-  if (first_harmonic_) first_harmonic_->ResetCaches();
-}
-
 Eigen::VectorXd HarmonicBalance::EmbedLowerHarmonics(const Eigen::VectorXd& x_low,
                                                      int low_harmonics) const {
   const int nh = 2 * harmonics() + 1, nl = 2 * low_harmonics + 1;

@@ -121,11 +121,6 @@ CondensedSystem::CondensedSystem(const CondensedSystem& higher, int harmonics)
   blocks_.resize(num_contacts());
 }
 
-void CondensedSystem::ResetOwnCaches() const {
-  receptance_->Forget();
-  memo_.valid = false;
-}
-
 std::unique_ptr<HarmonicBalance> CondensedSystem::WithFewerHarmonics(int harmonics) const {
   std::string error;
   if (harmonics < 1 || harmonics >= options_.harmonics ||

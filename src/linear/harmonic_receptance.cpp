@@ -137,15 +137,6 @@ void HarmonicReceptance::ComplexForm(int h) const {
   g_complex_[h].imag() = g_[h].topRightCorner(nr, nr);
 }
 
-void HarmonicReceptance::Forget() {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (int h = 1; h <= harmonics_; ++h) {
-    formed_at_[h] = nan;
-    g_formed_at_[h] = nan;
-    products_before_g_[h] = 0;
-  }
-}
-
 bool HarmonicReceptance::GFormed(int h) const { return g_formed_at_[Formed(h)] == formed_at_[h]; }
 
 void HarmonicReceptance::FormG(int h) const {

@@ -72,10 +72,6 @@ class HarmonicReceptance {
   // GComplexColumns or more than a few GTimes at one ω ask for it; until then GTimes goes through
   // the modes (W diag(d_h) Wᵀ v), equal to the formed product up to round-off.
   bool GFormed(int h) const;
-  // Back to the state of a new receptance for every harmonic h ≥ 1 (G_0 does not depend on ω):
-  // the next SetFrequency forms them again, and GTimes goes through the modes first, as on a
-  // new object, whatever this one computed at that ω before (HarmonicBalance::ResetCaches).
-  void Forget();
   // G_h v, or G_hᵀ v when `transposed`, v stacked like G_h's columns. For h ≥ 1 through the
   // complex form Ĝ_h = A + iB of G_h = [[A, B], [−B, A]] on v̂ = v_cos − i v_sin: half the memory
   // traffic of the real product (GMRES steps are bound by it).

@@ -23,17 +23,13 @@ BalancePool::Lease::~Lease() {
 BalancePool::Lease BalancePool::Borrow() {
   {
     const std::lock_guard<std::mutex> g(lock_);
-    // A balance lent before starts afresh (HarmonicBalance::ResetCaches): a lease's results
-    // do not depend on which balance it gets, nor on what that one computed before.
     if (first_free_) {
       first_free_ = false;
-      first_.ResetCaches();
       return Lease(this, nullptr);
     }
     if (!free_.empty()) {
       std::unique_ptr<HarmonicBalance> b = std::move(free_.back());
       free_.pop_back();
-      b->ResetCaches();
       return Lease(this, std::move(b));
     }
   }

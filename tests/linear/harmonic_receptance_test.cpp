@@ -133,37 +133,6 @@ TEST(HarmonicReceptance, ModalProductsBeforeFormingEqualTheFormedProducts) {
   }
 }
 
-// Forget: a receptance that formed Ĝ_h at ω behaves afterwards as a new one there — the first
-// products go through the modes again, bit for bit those of a new receptance (not those of the
-// formed Ĝ_h, which differ in the last bits), and G_0 stays.
-TEST(HarmonicReceptance, AForgottenReceptanceComputesAsANewOne) {
-  const Matrices s = MakeSystem(130, 50);
-  const Eigen::MatrixXd c = 2e-5 * s.k + 1e-3 * Eigen::MatrixXd::Identity(130, 130);
-  HarmonicReceptance used(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
-  HarmonicReceptance fresh(s.k, s.m, c, s.b, 2, ReceptanceMethod::kModal);
-  const double omega = 2100.0;
-  used.SetFrequency(omega);
-  ASSERT_EQ(used.G(1).rows(), 100);
-  ASSERT_EQ(used.G(2).rows(), 100);
-  const Eigen::VectorXd v = Eigen::VectorXd::Random(100);
-  Eigen::VectorXd formed, a, b;
-  used.GTimes(1, v, false, &formed);
-  used.Forget();
-  used.SetFrequency(omega);
-  fresh.SetFrequency(omega);
-  EXPECT_TRUE(used.GFormed(0));
-  for (int h = 1; h <= 2; ++h) {
-    EXPECT_FALSE(used.GFormed(h)) << h;
-    used.GTimes(h, v, h == 2, &a);
-    fresh.GTimes(h, v, h == 2, &b);
-    EXPECT_EQ(a, b) << "harmonic " << h;
-  }
-  used.GTimes(1, v, false, &a);
-  fresh.GTimes(1, v, false, &b);
-  EXPECT_EQ(a, b);
-  EXPECT_LT(RelDiff(a, formed), 1e-13);  // the same product up to round-off
-}
-
 // ∂x̃_h/∂ω of x̃_h = Z_h⁻¹ (f_h − B_hᵀ fs) (OmegaDerivative: its relative part and the DOF's
 // entries): the modal route (modal coordinates) equals the dense route for proportional damping,
 // and each route its own central differences in ω, also with non-proportional damping. The fixed
