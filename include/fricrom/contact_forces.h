@@ -20,6 +20,9 @@ struct ContactForceBlocks {
   Eigen::VectorXd dt_dalpha;  // ∂T̂/∂α (with derivatives)
   Eigen::VectorXd u, v;       // relative displacement samples over the period [m]
   ContactLawResult law;       // T, N, states at the samples
+  // Evaluate took the closed form of a contact stuck over the whole period (AddDerivatives
+  // then needs no new pass over the samples).
+  bool stuck_form = false;
 };
 
 // Which coefficient-level derivatives Evaluate computes (each costs N·(2H+1) per product).
@@ -44,6 +47,12 @@ class AftContactForces {
   void Evaluate(const ContactLawParams& params, const Eigen::VectorXd& uh,
                 const Eigen::VectorXd& vh, double alpha, AftDerivatives derivatives,
                 ContactForceBlocks* out) const;
+  // The derivatives of an Evaluate without them that left `out` at these uh, vh, α: the same
+  // blocks as Evaluate with `derivatives` would give, bit for bit; for a contact stuck over
+  // the period in closed form, without another pass over the samples.
+  void AddDerivatives(const ContactLawParams& params, const Eigen::VectorXd& uh,
+                      const Eigen::VectorXd& vh, double alpha, AftDerivatives derivatives,
+                      ContactForceBlocks* out) const;
 
  private:
   struct Plans;

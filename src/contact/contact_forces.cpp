@@ -2,6 +2,7 @@
 
 #include <fftw3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <numbers>
@@ -92,8 +93,22 @@ struct AftContactForces::Plans {
   void ToTime(const Eigen::VectorXd& coef, Eigen::VectorXd* samples) {
     samples->resize(n);
     if (direct) {
-      samples->setConstant(coef[0]);
-      for (int j = 1; j < nh; ++j) *samples += coef[j] * synthesis.col(j);
+      // Blocks of samples held in registers over the coefficients: one store per sample, where
+      // a pass per coefficient loads and stores every sample nh times. Each sample's sum keeps
+      // the order c0 + c1 s1 + c2 s2 + ... (bit for bit the per-coefficient passes').
+      constexpr int kBlock = 16;
+      double* out = samples->data();
+      for (int k0 = 0; k0 < n; k0 += kBlock) {
+        const int m = std::min(kBlock, n - k0);
+        double acc[kBlock];
+        for (int k = 0; k < m; ++k) acc[k] = coef[0];
+        for (int j = 1; j < nh; ++j) {
+          const double c = coef[j];
+          const double* col = synthesis.col(j).data() + k0;
+          for (int k = 0; k < m; ++k) acc[k] += c * col[k];
+        }
+        for (int k = 0; k < m; ++k) out[k0 + k] = acc[k];
+      }
       return;
     }
     const int half = n / 2 + 1;
@@ -177,7 +192,9 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
   }
   p.ToTime(uh, &out->u);
   p.ToTime(vh, &out->v);
-  if (EvaluateStuckContactLaw(params, out->u, out->v, alpha, derivatives.any(), &out->law)) {
+  // The closed form's blocks need no sample-level derivatives of the law.
+  out->stuck_form = EvaluateStuckContactLaw(params, out->u, out->v, alpha, false, &out->law);
+  if (out->stuck_form) {
     p.StuckBlocks(params, uh, vh, out->u[0], out->v[0], alpha, derivatives, out);
     return;
   }
@@ -212,6 +229,17 @@ void AftContactForces::Evaluate(const ContactLawParams& params, const Eigen::Vec
     for (int k = 0; k < p.n; ++k) p.g[k] = out->law.dT[k].dalpha;
     out->dt_dalpha.noalias() = p.analysis_t.transpose() * p.g;
   }
+}
+
+void AftContactForces::AddDerivatives(const ContactLawParams& params, const Eigen::VectorXd& uh,
+                                      const Eigen::VectorXd& vh, double alpha,
+                                      AftDerivatives derivatives, ContactForceBlocks* out) const {
+  if (!out->stuck_form || uh.size() != plans_->nh || vh.size() != plans_->nh ||
+      out->u.size() != plans_->n || out->v.size() != plans_->n) {
+    Evaluate(params, uh, vh, alpha, derivatives, out);
+    return;
+  }
+  plans_->StuckBlocks(params, uh, vh, out->u[0], out->v[0], alpha, derivatives, out);
 }
 
 }  // namespace fricrom

@@ -89,23 +89,23 @@ bool EvaluateStuckContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u
   // from t0 + kt (u_k − u_0) by at most ~2n·eps times the largest force along the path. A sample
   // whose T_k lies within AdvanceContact's limit μN (1 + 1e-12) by more than that sticks in
   // both (α = ±1 included: T_0 = ±μN(0)); samples closer to the limit go to the full law.
-  // One pass: the samples are written as they are tested (the caller overwrites them if not).
+  // The samples are written before they are tested (the caller overwrites them if not).
   ContactLawResult& r = *result;
-  r.tangential.resize(n);
-  r.normal.resize(n);
-  double scale = std::abs(t0), slack = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < n; ++k) {
-    const double nk = p.normal_preload + p.kn * v[k];
-    if (!(nk > 0.0)) return false;
-    const double dt = p.kt * (u[k] - u[0]), tk = t0 + dt, limit = p.mu * nk;
-    r.tangential[k] = tk;
-    r.normal[k] = nk;
-    scale = std::max(scale, std::max(limit, std::abs(dt)));
-    const double s = limit * (1.0 + 1e-12) - std::abs(tk);
-    if (s < 0.0) return false;     // slips here: no tolerance below can accept it
-    if (!(s >= slack)) slack = s;  // NaN sticks
+  // Whole-array passes (vectorised) rather than one loop with an exit per sample: ~70 % of the
+  // FE cascade's laws stick, so the exits rarely save work, and the branches kept the loop
+  // scalar. Each sample's arithmetic is the one the sequential law does (no contraction).
+  r.normal = p.normal_preload + p.kn * v.array();
+  r.tangential = t0 + p.kt * (u.array() - u[0]);
+  const auto limit = p.mu * r.normal.array();
+  const auto slack = limit * (1.0 + 1e-12) - r.tangential.array().abs();
+  const double scale =
+      std::max({std::abs(t0), limit.maxCoeff(), (p.kt * (u.array() - u[0])).abs().maxCoeff()});
+  // The vectorised reductions may drop a NaN: a non-finite sum of the slacks (any NaN, or an
+  // infinite force) sends the law to the sequential route, which is right for any input.
+  if (!(r.normal.minCoeff() > 0.0 && std::isfinite(slack.sum()) &&
+        slack.minCoeff() >= 16.0 * n * std::numeric_limits<double>::epsilon() * scale)) {
+    return false;
   }
-  if (!(slack >= 16.0 * n * std::numeric_limits<double>::epsilon() * scale)) return false;
   r.states.assign(n, ContactState::kStick);
   if (with_derivatives) {
     // As EvaluateContactLaw's stick samples anchored at the initial instant (sample 0).

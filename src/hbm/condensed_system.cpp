@@ -158,9 +158,31 @@ Eigen::VectorXd CondensedSystem::ContactForces(const Eigen::VectorXd& x,
   // The forces depend on (x, α) only, not on ω: the last point's are reused where they (and the
   // derivatives asked for) are at hand, bit for bit what a new AFT would give.
   ForceMemo& memo = memo_;
-  if (memo.valid && (memo.displacement || !derivatives.displacement) &&
-      (memo.alpha_derivative || !derivatives.alpha) && memo.x.size() == x.size() && memo.x == x &&
-      memo.alpha.size() == alpha.size() && memo.alpha == alpha) {
+  const bool same_point = memo.valid && memo.x.size() == x.size() && memo.x == x &&
+                          memo.alpha.size() == alpha.size() && memo.alpha == alpha;
+  if (same_point && (memo.displacement || !derivatives.displacement) &&
+      (memo.alpha_derivative || !derivatives.alpha)) {
+    return memo.ft;
+  }
+  const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
+  Eigen::VectorXd uh(nh), vh(nh);
+  const auto gather = [&](int c) {
+    for (int j = 0; j < nh; ++j) {
+      uh[j] = x[Idx(j, row_t_[c])];
+      vh[j] = x[Idx(j, row_n_[c])];
+    }
+  };
+  if (same_point) {
+    // Forces at hand, derivatives missing (a Newton step linearises where it evaluated): the
+    // contacts stuck in closed form get theirs without another pass over the samples.
+    memo.valid = false;  // until every block is complete
+    for (int c = 0; c < nc; ++c) {
+      const Contact& ct = model_.contacts[c];
+      gather(c);
+      aft_->AddDerivatives(ContactLawParams{ct.kn, ct.kt, ct.mu, ct.normal_preload}, uh, vh,
+                           alpha[c], AftDerivatives{true, true}, &blocks_[c]);
+    }
+    memo.displacement = memo.alpha_derivative = memo.valid = true;
     return memo.ft;
   }
   // Derivatives in x come with those in α, which cost one more analysis per contact: a bound
@@ -169,15 +191,11 @@ Eigen::VectorXd CondensedSystem::ContactForces(const Eigen::VectorXd& x,
   // evaluated, but the derivatives cost about as much as the second AFT they would save —
   // 10-point FE segment 128.3 → 133.0 s side by side.)
   if (derivatives.any()) derivatives = AftDerivatives{true, true};
-  const int nc = num_contacts(), nr = num_relative(), nh = 2 * options_.harmonics + 1;
   Eigen::VectorXd ft = Eigen::VectorXd::Zero(nr * nh);
-  Eigen::VectorXd uh(nh), vh(nh);
+  memo.valid = false;  // blocks_ are overwritten below
   for (int c = 0; c < nc; ++c) {
     const Contact& ct = model_.contacts[c];
-    for (int j = 0; j < nh; ++j) {
-      uh[j] = x[Idx(j, row_t_[c])];
-      vh[j] = x[Idx(j, row_n_[c])];
-    }
+    gather(c);
     aft_->Evaluate(ContactLawParams{ct.kn, ct.kt, ct.mu, ct.normal_preload}, uh, vh, alpha[c],
                    derivatives, &blocks_[c]);
     for (int j = 0; j < nh; ++j) {

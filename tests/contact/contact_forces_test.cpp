@@ -155,6 +155,35 @@ TEST_P(AftRoutes, StuckContactsTakeTheClosedForm) {
   }
 }
 
+// A Newton step linearises where it evaluated: AddDerivatives completes a plain Evaluate's
+// blocks (the closed form's without a new pass over the samples). Whatever the route, the
+// blocks equal those of Evaluate with derivatives bit for bit — stuck (the motion scaled down),
+// stick-slip with lift-off, and a block left by another contact's evaluation (the flag cleared).
+TEST_P(AftRoutes, AddedDerivativesEqualAnEvaluationWithThemBitForBit) {
+  const int harmonics = GetParam();
+  const AftContactForces aft(HbmOptions{harmonics, 64});
+  Eigen::VectorXd uh, vh;
+  Motion(harmonics, &uh, &vh);
+  int stuck_forms = 0;
+  for (const double scale : {0.01, 1.0}) {
+    const Eigen::VectorXd us = scale * uh, vs = scale * vh;
+    ContactForceBlocks with, added;
+    aft.Evaluate(kPreloaded, us, vs, 0.6, AftDerivatives{true, true}, &with);
+    aft.Evaluate(kPreloaded, us, vs, 0.6, AftDerivatives{}, &added);
+    stuck_forms += added.stuck_form;
+    EXPECT_EQ(added.stuck_form, scale < 1.0) << scale;
+    aft.AddDerivatives(kPreloaded, us, vs, 0.6, AftDerivatives{true, true}, &added);
+    EXPECT_EQ(added.t, with.t) << scale;
+    EXPECT_EQ(added.n, with.n) << scale;
+    EXPECT_EQ(added.dt_du, with.dt_du) << scale;
+    EXPECT_EQ(added.dt_dv, with.dt_dv) << scale;
+    EXPECT_EQ(added.dn_dv, with.dn_dv) << scale;
+    EXPECT_EQ(added.dt_dalpha, with.dt_dalpha) << scale;
+    EXPECT_EQ(added.law.states, with.law.states) << scale;
+  }
+  EXPECT_EQ(stuck_forms, 1);
+}
+
 INSTANTIATE_TEST_SUITE_P(DirectAndFftw, AftRoutes, ::testing::Values(1, 3, 7, 8, 12));
 
 // The same motion (harmonics above 7 zero) through the direct route at H = 7 and FFTW at H = 8:

@@ -160,6 +160,18 @@ TEST(ContactLaw, StuckClosedFormAgreesWithTheSequentialLaw) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(8), v = Eigen::VectorXd::Zero(8);
   ContactLawResult r;
   EXPECT_THROW(EvaluateStuckContactLaw(kParams, u, v, 1.5, false, &r), std::invalid_argument);
+  // The closed form's reductions are vectorised: a NaN or an infinity at any one sample (where
+  // a reduction could drop it) still sends the contact to the sequential law.
+  ASSERT_TRUE(EvaluateStuckContactLaw(preloaded, u, v, 0.2, false, &r));
+  for (int k = 0; k < 8; ++k) {
+    for (const double bad : {NAN, INFINITY, -INFINITY}) {
+      Eigen::VectorXd ub = u, vb = v;
+      ub[k] = bad;
+      EXPECT_FALSE(EvaluateStuckContactLaw(preloaded, ub, v, 0.2, false, &r)) << k << " u " << bad;
+      vb[k] = bad;
+      EXPECT_FALSE(EvaluateStuckContactLaw(preloaded, u, vb, 0.2, false, &r)) << k << " v " << bad;
+    }
+  }
 }
 
 // The returned period is the second of two stepped from the initial condition: T, N and the
