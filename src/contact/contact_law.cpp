@@ -42,10 +42,13 @@ ContactRegime ClassifyRegime(const std::vector<ContactState>& states) {
   return ContactRegime::kStickSlip;
 }
 
-ContactStep AdvanceContact(const ContactLawParams& p, double tangential_prev,
-                           double tangential_increment, double normal_gap) {
+namespace {
+
+// AdvanceContact once N = max(N0 + kn v, 0) is known (the AFT computes every sample's at once).
+inline ContactStep AdvanceWithNormal(const ContactLawParams& p, double tangential_prev,
+                                     double tangential_increment, double normal) {
   ContactStep out;
-  out.normal = std::max(p.normal_preload + p.kn * normal_gap, 0.0);
+  out.normal = normal;
   if (out.normal <= 0.0) {
     out.state = ContactState::kLiftOff;
     return out;
@@ -59,6 +62,14 @@ ContactStep AdvanceContact(const ContactLawParams& p, double tangential_prev,
   out.tangential = predictor > 0.0 ? limit : -limit;
   out.state = predictor > 0.0 ? ContactState::kSlipPositive : ContactState::kSlipNegative;
   return out;
+}
+
+}  // namespace
+
+ContactStep AdvanceContact(const ContactLawParams& p, double tangential_prev,
+                           double tangential_increment, double normal_gap) {
+  return AdvanceWithNormal(p, tangential_prev, tangential_increment,
+                           std::max(p.normal_preload + p.kn * normal_gap, 0.0));
 }
 
 namespace {
@@ -131,9 +142,11 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
   r.normal.resize(n);
   r.states.resize(n);
   if (with_derivatives) {
-    r.dT.assign(n, TangentialDerivative{});
+    r.dT.resize(n);  // every sample is written below
     r.dN_dv.resize(n);
   }
+  // Every sample's normal load in one (vectorised) pass, as AdvanceContact computes it.
+  for (int k = 0; k < n; ++k) r.normal[k] = std::max(p.normal_preload + p.kn * v[k], 0.0);
 
   // The tangential force in stick is T_k = T_a + kt (u_k − u_a), where a is the last "anchor":
   // the initial instant, the last slip sample or the last lift-off sample. Tracking the anchor
@@ -144,9 +157,7 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
   double anchor_dv = 0.0;  // dT_a/dv_a
   double anchor_dalpha = 0.0;
 
-  auto normal_at = [&](int j) { return std::max(p.normal_preload + p.kn * v[j], 0.0); };
-
-  const double n0 = normal_at(0);
+  const double n0 = r.normal[0];
   double t_prev = alpha * p.mu * n0;
   if (n0 > 0.0) {
     anchor_dv = alpha * p.mu * p.kn;
@@ -165,7 +176,7 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
   // bit in fewer steps. Samples not matched are overwritten by the second period as before.
   int first_event = n;  // step of the first slip or lift-off in the first period
   for (int step = 1, k = 1, km1 = 0; step < 2 * n; ++step, km1 = k, k = k + 1 == n ? 0 : k + 1) {
-    const ContactStep at = AdvanceContact(p, t_prev, u[k] - u[km1], v[k]);
+    const ContactStep at = AdvanceWithNormal(p, t_prev, u[k] - u[km1], r.normal[k]);
     const double nk = at.normal, tk = at.tangential;
     const ContactState state = at.state;
     if (state != ContactState::kStick) {
@@ -188,7 +199,6 @@ void EvaluateContactLaw(const ContactLawParams& p, const Eigen::VectorXd& u,
     }
     if (step >= first_event) {
       r.tangential[k] = tk;
-      r.normal[k] = nk;
       r.states[k] = state;
       if (with_derivatives) {
         TangentialDerivative& d = r.dT[k];
