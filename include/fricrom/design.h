@@ -36,14 +36,25 @@ struct ResonanceResult {
 ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
                               const BoundsOptions& bounds);
 
-// Bound curve. Every frequency is an independent unit of work, so one thread, several threads,
-// MPI ranks and a resumed run give the same curve. The warm start has no order either, it runs in
-// two passes: pass 1 computes every point on its own; pass 2 re-optimises each point from the
-// optimal α its neighbours (i − 1, i + 1) reached in pass 1 (the optimum moves little between
-// neighbouring frequencies) and keeps, per bound, the better of its two passes.
+// Bound curve. Pass 1 computes every frequency on its own (independent units of work); pass 2
+// (the warm start) re-optimises each point from the optima of its neighbours (the optimum moves
+// little between neighbouring frequencies) and keeps, per bound, the better of its two passes.
+// One thread, several threads, MPI ranks and a resumed run give the same curve.
 struct BoundCurveOptions {
   BoundsOptions bounds;
   bool warm_start = true;  // pass 2
+  // How pass 2 reaches the neighbours' optima:
+  //  kSweeps     two sweeps, one up and one down the curve, each point from the pass-2 bounds of
+  //              the point before it in the sweep, the better of the two kept: an optimum found
+  //              at one frequency travels the whole curve in one pass (two units of work);
+  //  kNeighbours each point from the pass-1 optima of i − 1 and i + 1 (n units, any order): an
+  //              optimum travels one point per pass.
+  // On the FE cascade's 50-point curve kNeighbours left y_max 5.5 % below the best bound any of
+  // several searches found (mean over the points; by more than 1 % at 38 of them; the pass
+  // repeated nine times still 1.8 %) and R 0.06 above it; the sweeps ~1 % and 0.004 in about
+  // the same time (benchmarks/README.md, thirty-first session).
+  enum NeighbourPass { kSweeps, kNeighbours };
+  NeighbourPass neighbour_pass = kSweeps;
   // Pass 1 in full (every seed, the sample check) at every anchor_every-th frequency and the
   // last; between two anchors the optima are continued in frequency from each anchor towards the
   // other (ContinueBounds) and the better of the two kept. 1: every frequency in full. Cheaper
@@ -52,9 +63,10 @@ struct BoundCurveOptions {
   int anchor_every = 1;
   // Worker threads over the frequencies (0 = every core); more than one needs a BalanceMaker.
   int threads = 1;
-  // (stage, done, total): stage "frequencies" after each pass-1 point and "neighbour starts"
-  // after each pass-2 point; with one thread also each point's own stages prefixed by its
-  // frequency ("1000 Hz: seeds", "1000 Hz: samples").
+  // (stage, done, total): stage "frequencies" after each pass-1 point, "sweeps" after each of
+  // pass 2's sweeps (kSweeps) or "neighbour starts" after each pass-2 point; with one thread
+  // also each point's own stages prefixed by its frequency ("1000 Hz: seeds", "1000 Hz:
+  // samples").
   std::function<void(const std::string& stage, int done, int total)> progress;
   bool IsValid(std::string* error) const;
 };
@@ -81,6 +93,21 @@ BoundCurve ComputeBoundCurve(
 BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
                                   const std::vector<BoundsResult>& pass1, int i,
                                   const BoundsOptions& bounds);
+// Pass 2 as a sweep (BoundCurveOptions::kSweeps): along the points in order (upwards: 0 to
+// n − 1, else n − 1 to 0), each point's pass-1 bounds re-optimised as in RefineFromNeighbours
+// from the sweep's result at the point before it, its minimum towards the minimum and its
+// maximum towards the maximum only; the first point is pass 1's. Results in the points' order.
+std::vector<BoundsResult> SweepBounds(const HarmonicBalance& system,
+                                      const std::vector<BoundsResult>& pass1, bool upwards,
+                                      const BoundsOptions& bounds);
+// The two sweeps' results point by point: `up` merged with `down` (MergeBounds); wall_s is pass
+// 1's plus both sweeps' time at the point.
+std::vector<BoundsResult> MergeSweeps(std::vector<BoundsResult> up,
+                                      const std::vector<BoundsResult>& down,
+                                      const std::vector<BoundsResult>& pass1,
+                                      BoundsOptions::Objective objective);
+std::string ToString(BoundCurveOptions::NeighbourPass pass);
+bool FromString(const std::string& name, BoundCurveOptions::NeighbourPass* pass);
 // The anchors of a curve of n points: 0, k, 2k, ... and n − 1 (every point for k = 1).
 std::vector<int> CurveAnchors(int n, int anchor_every);
 // Continuation of the optima of `from` along freqs_hz (in the order given, from.freq_hz's

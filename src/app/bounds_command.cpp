@@ -39,12 +39,14 @@ void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCu
     for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
     j["points"] = pts;
   }
-  // Pass 1 at the anchors, a continuation per chain between them, pass 2 at every point, and
+  // Pass 1 at the anchors, a continuation per chain between them, pass 2 (two sweeps, or every
+  // point), and
   // on the harmonic ladder the refinement of every point.
   const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
-  const int units = static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
-                    (co.warm_start && n > 1 ? n : 0) +
-                    (UsesHarmonicLadder(system, co.bounds) ? n : 0);
+  const int units =
+      static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
+      (co.warm_start && n > 1 ? (co.neighbour_pass == BoundCurveOptions::kSweeps ? 2 : n) : 0) +
+      (UsesHarmonicLadder(system, co.bounds) ? n : 0);
   j["units"] = {{"total", units},
                 {"computed", run.computed},
                 {"resumed", run.resumed},
@@ -116,6 +118,7 @@ int DesignCommands::State::RunBounds() {
   BoundCurveOptions co;
   co.bounds = base;
   co.anchor_every = anchor_every;
+  FromString(neighbour_pass, &co.neighbour_pass);  // CLI::IsMember checked the name
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
   co.threads = base.method == BoundsOptions::kReducedSpace ? threads : 1;
   if (progress.enabled) {
@@ -131,9 +134,11 @@ int DesignCommands::State::RunBounds() {
   double wall = 0.0;
   const CurveUnitsRun run = RunCurveUnits(
       dir,
-      JournalHeader(
-          "bounds", bounds_case,
-          {{"freqs_hz", freqs}, {"warm_start", co.warm_start}, {"anchor_every", co.anchor_every}}),
+      JournalHeader("bounds", bounds_case,
+                    {{"freqs_hz", freqs},
+                     {"warm_start", co.warm_start},
+                     {"anchor_every", co.anchor_every},
+                     {"neighbour_pass", ToString(co.neighbour_pass)}}),
       resume, system, [&] { return MakeCaseBalance(c); }, freqs, co,
       [&](const CurveUnitsRun& r) {
         progress.Done();

@@ -134,6 +134,12 @@ void DesignCommands::State::RegisterBounds(CLI::App& app) {
                    "last, continuation of the optima in frequency between them (default 1: every "
                    "frequency in full)")
       ->check(CLI::Range(1, 100000));
+  bounds
+      ->add_option("--neighbour-pass", neighbour_pass,
+                   "Curve, pass 2: sweeps (default: one sweep up and one down the curve, each "
+                   "point from the bounds the sweep reached at the point before it) or "
+                   "neighbours (each point from its neighbours' pass-1 optima)")
+      ->check(CLI::IsMember({"sweeps", "neighbours"}));
   bounds->add_flag("--plot", plot, "Draw the bound curve and the contact time histories");
   bounds
       ->add_option("--threads", threads,

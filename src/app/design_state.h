@@ -53,8 +53,9 @@ struct DesignCommands::State {
   bool interface_seeds = false;
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
-  std::vector<double> range;  // bounds --range LO HI [Hz]; empty: the case's range
-  int anchor_every = 1;       // bounds curve: BoundCurveOptions::anchor_every
+  std::vector<double> range;              // bounds --range LO HI [Hz]; empty: the case's range
+  int anchor_every = 1;                   // bounds curve: BoundCurveOptions::anchor_every
+  std::string neighbour_pass = "sweeps";  // bounds curve: BoundCurveOptions::neighbour_pass
   int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
   int scan_points = NoaOptions{}.scan_points;
   std::string param, noa_objective = "eta-gap";

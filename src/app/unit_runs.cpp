@@ -6,6 +6,8 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "app/bounds_record.h"
 #include "app/mpi_units.h"
@@ -91,6 +93,7 @@ class CurveUnits {
         n_(static_cast<int>(freqs.size())),
         ranks_(MpiSize() > 1),
         two_passes_(options.warm_start && n_ > 1),
+        sweeps_(two_passes_ && options.neighbour_pass == BoundCurveOptions::kSweeps),
         anchors_(CurveAnchors(n_, options.anchor_every)),
         chains_(CurveChains(anchors_)),
         pool_(system, make_balance),
@@ -113,7 +116,7 @@ class CurveUnits {
     }
     if (two_passes_) {
       Share(every_, &pass1_);
-      DistributeUnits({}, second_, {});
+      DistributeUnits({}, sweeps_ ? sweep_ : second_, {});
     }
     if (ladder_) {
       pass2_.resize(n_);
@@ -126,7 +129,8 @@ class CurveUnits {
   }
 
   // Rank 0 (or the only one): every stage through the journal, which keeps pass 1 at i, pass 2
-  // at n + i, chain c at 2n + c, the ladder's refinement at 2n + chains + i.
+  // at n + i (its sweeps up and down at n and n + 1), chain c at 2n + c, the ladder's refinement
+  // at 2n + chains + i.
   CurveUnitsRun Run(RunJournal* journal) {
     journal_ = journal;
     RunStage(0, anchors_, first_, "frequencies");
@@ -137,8 +141,13 @@ class CurveUnits {
       // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long),
       // so that no worker starts a long point while the others run out of work. The curve does
       // not depend on the order.
-      RunStage(n_, DearestFirst(pass1_), second_, "neighbour starts");
-      run_.points = Read(n_);
+      if (sweeps_) {
+        RunStage(n_, {0, 1}, sweep_, "sweeps");
+        run_.points = MergeSweeps(ReadSweep(n_), ReadSweep(n_ + 1), pass1_, search_.objective);
+      } else {
+        RunStage(n_, DearestFirst(pass1_), second_, "neighbour starts");
+        run_.points = Read(n_);
+      }
     } else {
       run_.points = pass1_;
     }
@@ -156,6 +165,17 @@ class CurveUnits {
  private:
   const HarmonicBalance& AtSearch(const BalancePool::Lease& lease) const {
     return SearchBalance(lease.get(), options_.bounds);
+  }
+
+  // A sweep's record: one point record per frequency, in the points' order.
+  std::vector<BoundsResult> ReadSweep(int key) const {
+    std::vector<BoundsResult> out;
+    for (const nlohmann::json& r : journal_->finished().at(key)) out.push_back(BoundsFromRecord(r));
+    if (static_cast<int>(out.size()) != n_) {
+      throw std::runtime_error("bounds: the journal's sweep holds " + std::to_string(out.size()) +
+                               " points, the curve has " + std::to_string(n_));
+    }
+    return out;
   }
 
   std::vector<BoundsResult> Read(int offset) const {
@@ -232,6 +252,7 @@ class CurveUnits {
   const int n_;
   const bool ranks_;
   const bool two_passes_;
+  const bool sweeps_;  // pass 2 as two sweeps (BoundCurveOptions::kSweeps)
   const std::vector<int> anchors_;
   const std::vector<CurveChain> chains_;
   BalancePool pool_;
@@ -262,6 +283,15 @@ class CurveUnits {
   const Unit second_ = [this](int i) {
     const BalancePool::Lease lease = pool_.Borrow();
     return BoundsRecord(RefineFromNeighbours(AtSearch(lease), pass1_, i, search_)).dump();
+  };
+  // Pass 2's sweep up (unit 0) or down (unit 1) the curve, as one record per point.
+  const Unit sweep_ = [this](int d) {
+    const BalancePool::Lease lease = pool_.Borrow();
+    nlohmann::json records = nlohmann::json::array();
+    for (const BoundsResult& r : SweepBounds(AtSearch(lease), pass1_, d == 0, search_)) {
+      records.push_back(BoundsRecord(r));
+    }
+    return records.dump();
   };
   const Unit refine_ = [this](int i) {
     const BalancePool::Lease lease = pool_.Borrow();

@@ -46,14 +46,12 @@ bool AlreadyTried(const BoundSolution& a, const BoundsResult& own) {
   return false;
 }
 
-}  // namespace
-
-BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
-                                  const std::vector<BoundsResult>& pass1, int i,
-                                  const BoundsOptions& bounds) {
-  const int n = static_cast<int>(pass1.size());
-  if (i < 0 || i >= n) throw std::invalid_argument("RefineFromNeighbours: no such point");
-  const BoundsResult& own = pass1[i];
+// Point `own` re-optimised from the optima of `from` (other frequencies' bounds): each optimum
+// in both directions, or with own_direction a minimum only towards the minimum and a maximum
+// only towards the maximum.
+BoundsResult RefineFrom(const HarmonicBalance& system, const BoundsResult& own,
+                        const std::vector<const BoundsResult*>& from, const BoundsOptions& bounds,
+                        bool own_direction) {
   // The neighbours' optima as known solutions: Newton (or the residual homotopy) from their x
   // keeps their branch of periodic solutions, where a cold start at their α may not; one that
   // neither reaches is dropped, not started cold (50-point FE curve: 272 s of cold routes at
@@ -69,13 +67,15 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
     run_min = !(own.min.IsUsable() && own.min.amplitude <= options.minimum_stop_m);
   }
   std::vector<KnownSolution> known;
-  for (int j : {i - 1, i + 1}) {
-    if (j < 0 || j >= n) continue;
-    for (const BoundSolution* s : {&pass1[j].min, &pass1[j].max}) {
+  for (const BoundsResult* r : from) {
+    for (const BoundSolution* s : {&r->min, &r->max}) {
       if (AlreadyTried(*s, own)) continue;
       bool dup = false;
       for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
-      if (!dup) known.push_back({s->x, s->alpha, run_min, true, false});
+      const bool is_min = s == &r->min;
+      if (dup) continue;
+      known.push_back({s->x, s->alpha, run_min && (!own_direction || is_min),
+                       !own_direction || !is_min, false});
     }
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -86,6 +86,69 @@ BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
   out.wall_s =
       own.wall_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+}  // namespace
+
+BoundsResult RefineFromNeighbours(const HarmonicBalance& system,
+                                  const std::vector<BoundsResult>& pass1, int i,
+                                  const BoundsOptions& bounds) {
+  const int n = static_cast<int>(pass1.size());
+  if (i < 0 || i >= n) throw std::invalid_argument("RefineFromNeighbours: no such point");
+  std::vector<const BoundsResult*> from;
+  for (int j : {i - 1, i + 1}) {
+    if (j >= 0 && j < n) from.push_back(&pass1[j]);
+  }
+  return RefineFrom(system, pass1[i], from, bounds, false);
+}
+
+std::vector<BoundsResult> SweepBounds(const HarmonicBalance& system,
+                                      const std::vector<BoundsResult>& pass1, bool upwards,
+                                      const BoundsOptions& bounds) {
+  const int n = static_cast<int>(pass1.size());
+  std::vector<BoundsResult> out(n);
+  for (int k = 0; k < n; ++k) {
+    const int i = upwards ? k : n - 1 - k;
+    if (k == 0) {
+      out[i] = pass1[i];
+      continue;
+    }
+    // The point before it in the sweep, already improved by the sweep, as its only neighbour;
+    // each optimum in its own direction (on the FE cascade's curve the other direction's runs
+    // doubled the sweeps' time and moved no bound).
+    out[i] = RefineFrom(system, pass1[i], {&out[upwards ? i - 1 : i + 1]}, bounds, true);
+  }
+  return out;
+}
+
+std::vector<BoundsResult> MergeSweeps(std::vector<BoundsResult> up,
+                                      const std::vector<BoundsResult>& down,
+                                      const std::vector<BoundsResult>& pass1,
+                                      BoundsOptions::Objective objective) {
+  if (down.size() != up.size() || pass1.size() != up.size()) {
+    throw std::invalid_argument("MergeSweeps: one result per point in each sweep and in pass 1");
+  }
+  for (size_t i = 0; i < up.size(); ++i) {
+    const double wall = up[i].wall_s + down[i].wall_s - pass1[i].wall_s;
+    MergeBounds(down[i], objective, &up[i]);
+    up[i].wall_s = wall;
+  }
+  return up;
+}
+
+std::string ToString(BoundCurveOptions::NeighbourPass pass) {
+  return pass == BoundCurveOptions::kSweeps ? "sweeps" : "neighbours";
+}
+
+bool FromString(const std::string& name, BoundCurveOptions::NeighbourPass* pass) {
+  if (name == "sweeps") {
+    *pass = BoundCurveOptions::kSweeps;
+  } else if (name == "neighbours") {
+    *pass = BoundCurveOptions::kNeighbours;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 std::vector<int> CurveAnchors(int n, int anchor_every) {
@@ -233,7 +296,21 @@ BoundCurve ComputeBoundCurve(
     MergeChains(chains, chain_results, search.objective, &pass1);
   }
   std::vector<BoundsResult> points = pass1;
-  if (options.warm_start && n > 1) {
+  if (options.warm_start && n > 1 && options.neighbour_pass == BoundCurveOptions::kSweeps) {
+    std::vector<BoundsResult> sweeps[2];
+    done = 0;
+    RunWorkUnits(
+        {0, 1}, WorkerThreads(options.threads, 2),
+        [&](int d) {
+          const BalancePool::Lease lease = pool.Borrow();
+          sweeps[d] =
+              SweepBounds(SearchBalance(lease.get(), options.bounds), pass1, d == 0, search);
+        },
+        [&](int) {
+          if (progress) progress("sweeps", ++done, 2);
+        });
+    points = MergeSweeps(std::move(sweeps[0]), sweeps[1], pass1, search.objective);
+  } else if (options.warm_start && n > 1) {
     done = 0;
     RunWorkUnits(
         all, threads,

@@ -48,20 +48,38 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 u = j["units"]
 n = int(sys.argv[2])
-assert u["total"] == 2 * n and u["computed"] == 2 * n and u["resumed"] == 0, u
+# Pass 1 at every point, pass 2 as two sweeps (one unit each).
+assert u["total"] == n + 2 and u["computed"] == n + 2 and u["resumed"] == 0, u
 assert len(j["points"]) == n and j["status_min"] == "converged", j.keys()
 # The stages in the order run, each with its units and this run's wall time.
 st = j["stages"]
 assert [(s["stage"], s["units"], s["computed"]) for s in st] == \
-    [("frequencies", n, n), ("neighbour starts", n, n)], st
+    [("frequencies", n, n), ("sweeps", 2, 2)], st
 assert all(0.0 <= s["wall_s"] <= j["wall_s"] for s in st), st
 PY
+
+# Pass 2 from each point's neighbours instead of the sweeps: one unit per point, on 2 ranks as
+# serially.
+"$fricrom" "${curve[@]}" --neighbour-pass neighbours --threads 1 --out "$tmp/nb1" > "$tmp/nb1.json"
+mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${curve[@]}" --neighbour-pass neighbours \
+  --out "$tmp/nb2" > "$tmp/nb2.json" || fail "mpirun -np 2 bounds --neighbour-pass neighbours failed"
+compare "$tmp/nb1" "$tmp/nb2"
+"$py" - "$tmp/nb1.json" "$points" <<'PY' || fail "the neighbour pass's unit counts are wrong"
+import json, sys
+j = json.load(open(sys.argv[1]))
+n = int(sys.argv[2])
+assert j["units"]["total"] == j["units"]["computed"] == 2 * n, j["units"]
+assert [(s["stage"], s["units"]) for s in j["stages"]] == \
+    [("frequencies", n), ("neighbour starts", n)], j["stages"]
+PY
+"$fricrom" "${curve[@]}" --neighbour-pass sideways --out "$tmp/bad" > /dev/null 2>&1 \
+  && fail "--neighbour-pass accepted an unknown name"
 
 # Two MPI ranks: pass 1 handed out, its records broadcast, pass 2 handed out; rank 0 writes.
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 mpirun --allow-run-as-root --oversubscribe -np 2 "$fricrom" "${curve[@]}" --out "$tmp/mpi" \
   > "$tmp/mpi.json" || fail "mpirun -np 2 bounds failed"
-"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == 2 * int(sys.argv[2]), u' \
+"$py" -c 'import json, sys; u = json.load(open(sys.argv[1]))["units"]; assert u["ranks"] == 2 and u["computed"] == int(sys.argv[2]) + 2, u' \
   "$tmp/mpi.json" "$points" || fail "the MPI run did not use 2 ranks"
 compare "$tmp/ref" "$tmp/mpi"
 
@@ -77,10 +95,10 @@ n = int(sys.argv[2])
 anchors = len(set(list(range(0, n, 4)) + [n - 1]))
 chains = 2 * sum(1 for a in range(0, n - 1, 4) if min(a + 4, n - 1) - a >= 2)
 u = json.load(open(sys.argv[1]))["units"]
-assert u["total"] == u["computed"] == anchors + chains + n, (u, anchors, chains)
+assert u["total"] == u["computed"] == anchors + chains + 2, (u, anchors, chains)
 st = json.load(open(sys.argv[1]))["stages"]
 assert [(s["stage"], s["units"]) for s in st] == \
-    [("frequencies", anchors), ("continuations", chains), ("neighbour starts", n)], st
+    [("frequencies", anchors), ("continuations", chains), ("sweeps", 2)], st
 PY
 
 # The harmonic ladder (H = 3 searched at H = 1): a refinement stage after pass 2, the same files
@@ -98,11 +116,11 @@ import json, sys
 for name in sys.argv[1:]:
     j = json.load(open(name))
     u = j["units"]
-    assert u["total"] == u["computed"] == 3 * 9, u
+    assert u["total"] == u["computed"] == 9 + 2 + 9, u
     assert all(p["search_harmonics"] == 1 and p["refinement_fallbacks"] == 0 for p in j["points"])
     assert j["status"] == "converged", j["status"]
     assert [s["stage"] for s in j["stages"]] == \
-        ["frequencies", "neighbour starts", "harmonic refinement"], j["stages"]
+        ["frequencies", "sweeps", "harmonic refinement"], j["stages"]
 PY
 
 # Kill at a random moment within 70 % of the serial run's time after the journal appears, then
@@ -137,7 +155,7 @@ import json, sys
 u = json.load(open(sys.argv[1]))["units"]
 recorded = int(sys.argv[2])
 print(f"curve_units_test: killed after {recorded} of {u['total']} point passes; resumed {u['resumed']}, computed {u['computed']}")
-assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == 2 * int(sys.argv[3]), u
+assert u["resumed"] == recorded and u["computed"] + u["resumed"] == u["total"] == int(sys.argv[3]) + 2, u
 # Stages count this run's work only: a resumed unit is in no stage's `computed`.
 st = json.load(open(sys.argv[1]))["stages"]
 assert sum(s["computed"] for s in st) == u["computed"], st

@@ -178,6 +178,7 @@ TEST(Design, BoundCurveIsItsPointsWithNeighbourStartsAndItsPeak) {
   ASSERT_EQ(freqs.size(), 3u);
   EXPECT_DOUBLE_EQ(freqs[1], 266.0);
   BoundCurveOptions o;
+  o.neighbour_pass = BoundCurveOptions::kNeighbours;
   o.bounds.check_samples = 0;
   std::vector<int> done, refined;
   o.progress = [&](const std::string& stage, int d, int total) {
@@ -227,6 +228,7 @@ TEST(Design, BoundCurveIsTheSameOnTwoThreadsAndPointByPoint) {
   HbmSystem sys(model, HbmOptions{1, 128});
   const std::vector<double> freqs = EvenFrequencies(255.0, 275.0, 6);
   BoundCurveOptions o;
+  o.neighbour_pass = BoundCurveOptions::kNeighbours;
   o.bounds.check_samples = 4;
   const BoundCurve one = ComputeBoundCurve(sys, freqs, o);
   o.threads = 2;
@@ -253,6 +255,66 @@ TEST(Design, BoundCurveIsTheSameOnTwoThreadsAndPointByPoint) {
   EXPECT_GT(refined, 0);  // some neighbour optimum was a new start, so pass 2 ran
   EXPECT_EQ(one.peak, two.peak);
   EXPECT_THROW(RefineFromNeighbours(sys, pass1, 6, bo), std::invalid_argument);
+}
+
+// Pass 2 as sweeps (the default): the curve is pass 1 carried up and down the points
+// (SweepBounds) and merged (MergeSweeps), on two threads as on one; each sweep starts at pass
+// 1's point and never narrows a bound; progress counts the two sweeps.
+TEST(Design, BoundCurveSweepsCarryPassOneUpAndDownTheCurve) {
+  const Model model = testing::LoadBaseline().model;
+  HbmSystem sys(model, HbmOptions{1, 128});
+  const std::vector<double> freqs = EvenFrequencies(255.0, 275.0, 6);
+  BoundCurveOptions o;
+  ASSERT_EQ(o.neighbour_pass, BoundCurveOptions::kSweeps);
+  o.bounds.check_samples = 4;
+  std::vector<int> sweeps_done;
+  o.progress = [&](const std::string& stage, int d, int total) {
+    if (stage == "sweeps") {
+      EXPECT_EQ(total, 2);
+      sweeps_done.push_back(d);
+    }
+    EXPECT_NE(stage, "neighbour starts");
+  };
+  const BoundCurve one = ComputeBoundCurve(sys, freqs, o);
+  EXPECT_EQ(sweeps_done, (std::vector<int>{1, 2}));
+  o.progress = nullptr;
+  o.threads = 2;
+  const BoundCurve two = ComputeBoundCurve(sys, freqs, o, [&] {
+    return std::make_unique<HbmSystem>(model, HbmOptions{1, 128});
+  });
+  std::vector<BoundsResult> pass1;
+  for (double f : freqs) pass1.push_back(ComputeBounds(sys, f, o.bounds));
+  const std::vector<BoundsResult> up = SweepBounds(sys, pass1, true, o.bounds);
+  const std::vector<BoundsResult> down = SweepBounds(sys, pass1, false, o.bounds);
+  ASSERT_EQ(up.size(), 6u);
+  ASSERT_EQ(down.size(), 6u);
+  EXPECT_EQ(up[0].max.alpha, pass1[0].max.alpha);  // each sweep starts at pass 1's point
+  EXPECT_EQ(down[5].min.alpha, pass1[5].min.alpha);
+  const std::vector<BoundsResult> merged = MergeSweeps(up, down, pass1, o.bounds.objective);
+  int moved = 0;
+  for (int i = 0; i < 6; ++i) {
+    ASSERT_TRUE(merged[i].IsUsable()) << i;
+    EXPECT_LE(merged[i].min.amplitude, std::min(up[i].min.amplitude, down[i].min.amplitude)) << i;
+    EXPECT_GE(merged[i].max.amplitude, std::max(up[i].max.amplitude, down[i].max.amplitude)) << i;
+    EXPECT_LE(merged[i].min.amplitude, pass1[i].min.amplitude) << i;
+    EXPECT_GE(merged[i].max.amplitude, pass1[i].max.amplitude) << i;
+    EXPECT_GE(merged[i].wall_s, pass1[i].wall_s) << i;
+    moved += merged[i].seeds_tried > pass1[i].seeds_tried;
+    for (const BoundCurve* c : {&one, &two}) {
+      EXPECT_EQ(c->points[i].min.amplitude, merged[i].min.amplitude) << i;
+      EXPECT_EQ(c->points[i].max.amplitude, merged[i].max.amplitude) << i;
+      EXPECT_EQ(c->points[i].max.alpha, merged[i].max.alpha) << i;
+    }
+  }
+  EXPECT_GT(moved, 0) << "no sweep ran a single start: the test checks nothing";
+  EXPECT_THROW(MergeSweeps(up, {down[0]}, pass1, o.bounds.objective), std::invalid_argument);
+  BoundCurveOptions::NeighbourPass pass = BoundCurveOptions::kSweeps;
+  EXPECT_TRUE(FromString("neighbours", &pass));
+  EXPECT_EQ(pass, BoundCurveOptions::kNeighbours);
+  EXPECT_EQ(ToString(pass), "neighbours");
+  EXPECT_FALSE(FromString("sideways", &pass));
+  EXPECT_EQ(pass, BoundCurveOptions::kNeighbours);  // left alone on an unknown name
+  EXPECT_EQ(ToString(BoundCurveOptions::kSweeps), "sweeps");
 }
 
 // Pass 2's minima start nothing else: with BoundsOptions::negligible_minimum it makes no minimum
