@@ -40,8 +40,7 @@ void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCu
     j["points"] = pts;
   }
   // Pass 1 at the anchors, a continuation per chain between them, pass 2 (two sweeps, or every
-  // point), and
-  // on the harmonic ladder the refinement of every point.
+  // point), and on the harmonic ladder the refinement of every point.
   const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
   const int units =
       static_cast<int>(anchors.size() + CurveChains(anchors).size()) +

@@ -138,13 +138,13 @@ class CurveUnits {
     if (!chains_.empty()) Continue();
     if (two_passes_) {
       if (ranks_) Share(every_, &pass1_);
-      // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are long),
-      // so that no worker starts a long point while the others run out of work. The curve does
-      // not depend on the order.
       if (sweeps_) {
         RunStage(n_, {0, 1}, sweep_, "sweeps");
         run_.points = MergeSweeps(ReadSweep(n_), ReadSweep(n_ + 1), pass1_, search_.objective);
       } else {
+        // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are
+        // long), so that no worker starts a long point while the others run out of work. The
+        // curve does not depend on the order.
         RunStage(n_, DearestFirst(pass1_), second_, "neighbour starts");
         run_.points = Read(n_);
       }

@@ -72,8 +72,8 @@ BoundsResult RefineFrom(const HarmonicBalance& system, const BoundsResult& own,
       if (AlreadyTried(*s, own)) continue;
       bool dup = false;
       for (const KnownSolution& k : known) dup = dup || k.alpha == s->alpha;
-      const bool is_min = s == &r->min;
       if (dup) continue;
+      const bool is_min = s == &r->min;
       known.push_back({s->x, s->alpha, run_min && (!own_direction || is_min),
                        !own_direction || !is_min, false});
     }
