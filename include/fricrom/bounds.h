@@ -219,8 +219,32 @@ struct BoundSolution {
   bool IsUsable() const { return status == BoundStatus::kConverged; }
 };
 
+// One α level's bounds in a coarse-to-fine search (bound_search.h), at its result's H. Each
+// level started from the optima of the level below and kept them as candidates, so every level's
+// bounds contain the coarser levels'.
+struct LevelBound {
+  std::string level;       // AlphaLevel::name: "interface", "face", "pair"
+  int parameters = 0;      // the level's α parameters
+  BoundSolution min, max;  // α: the level's parameters c (fine α = clamp(P c))
+  int corners_solved = 0;  // corners of the level's box solved to rank its starts
+  int corners_failed = 0;
+  int optimizer_runs = 0;
+  int samples_checked = 0;
+  int improved_by_samples = 0;
+  // Bounds of this level that a coarser level's optimum went beyond (0-2): evidence that the
+  // level's own runs fell short where the hierarchy holds them.
+  int raised_by_coarser = 0;
+  double wall_s = 0.0;     // the level's search and (on the harmonic ladder) refinement
+  double refine_s = 0.0;   // of which the refinement at H
+  double corners_s = 0.0;  // of which the corners' solves
+  double robustness() const;
+};
+
 struct BoundsResult {
   double freq_hz = 0.0;
+  // The α levels of a coarse-to-fine search, coarsest first, the last this result's own bounds;
+  // empty for a search on one level (lumped cases, α per interface).
+  std::vector<LevelBound> levels;
   BoundSolution min, max;  // minimum and maximum response (best converged seed of each)
   // Spread of the objective over the seeds whose run converged (amplitude [m] for kAmplitude,
   // η for kLossFactor): 0 when every seed reached the same optimum.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "fricrom/bound_search.h"
 #include "fricrom/bounds.h"
 #include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
@@ -42,6 +43,8 @@ ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSear
 // One thread, several threads, MPI ranks and a resumed run give the same curve.
 struct BoundCurveOptions {
   BoundsOptions bounds;
+  // The α levels each point's search runs over (bound_search.h); none or one: ComputeBounds.
+  LevelSearchOptions levels;
   bool warm_start = true;  // pass 2
   // How pass 2 reaches the neighbours' optima:
   //  kSweeps     two sweeps, one up and one down the curve, each point from the pass-2 bounds of

@@ -116,6 +116,7 @@ int DesignCommands::State::RunBounds() {
   Progress progress{ShowProgress(), "bounds"};
   BoundCurveOptions co;
   co.bounds = base;
+  co.levels = MakeLevelOptions(c);
   co.anchor_every = anchor_every;
   FromString(neighbour_pass, &co.neighbour_pass);  // CLI::IsMember checked the name
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.

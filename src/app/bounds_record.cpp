@@ -106,9 +106,53 @@ BoundSolution SolutionFromRecord(const json& j) {
   return s;
 }
 
-}  // namespace
+json LevelsRecord(const std::vector<LevelBound>& levels) {
+  json a = json::array();
+  for (const LevelBound& l : levels) {
+    a.push_back({{"level", l.level},
+                 {"parameters", l.parameters},
+                 {"min", SolutionRecord(l.min)},
+                 {"max", SolutionRecord(l.max)},
+                 {"corners_solved", l.corners_solved},
+                 {"corners_failed", l.corners_failed},
+                 {"optimizer_runs", l.optimizer_runs},
+                 {"samples_checked", l.samples_checked},
+                 {"improved_by_samples", l.improved_by_samples},
+                 {"raised_by_coarser", l.raised_by_coarser},
+                 {"wall_s", Real(l.wall_s)},
+                 {"refine_s", Real(l.refine_s)},
+                 {"corners_s", Real(l.corners_s)}});
+  }
+  return a;
+}
 
-json BoundsRecord(const BoundsResult& b) {
+std::vector<LevelBound> LevelsFromRecord(const json& j) {
+  std::vector<LevelBound> out;
+  if (!j.contains("levels")) return out;  // a record of a one-level search
+  const json& a = j.at("levels");
+  if (!a.is_array()) throw std::runtime_error("bound record: 'levels' is not a list");
+  for (const json& r : a) {
+    LevelBound l;
+    if (!Key(r, "level").is_string()) throw std::runtime_error("bound record: bad 'level'");
+    l.level = r.at("level").get<std::string>();
+    l.parameters = ReadInt(r, "parameters");
+    l.min = SolutionFromRecord(Key(r, "min"));
+    l.max = SolutionFromRecord(Key(r, "max"));
+    l.corners_solved = ReadInt(r, "corners_solved");
+    l.corners_failed = ReadInt(r, "corners_failed");
+    l.optimizer_runs = ReadInt(r, "optimizer_runs");
+    l.samples_checked = ReadInt(r, "samples_checked");
+    l.improved_by_samples = ReadInt(r, "improved_by_samples");
+    l.raised_by_coarser = ReadInt(r, "raised_by_coarser");
+    l.wall_s = ReadReal(r, "wall_s");
+    l.refine_s = ReadReal(r, "refine_s");
+    l.corners_s = ReadReal(r, "corners_s");
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
+json BoundsRecordOneLevel(const BoundsResult& b) {
   return {{"freq_hz", b.freq_hz},
           {"min", SolutionRecord(b.min)},
           {"max", SolutionRecord(b.max)},
@@ -132,6 +176,14 @@ json BoundsRecord(const BoundsResult& b) {
           {"refinement_fallbacks", b.refinement_fallbacks},
           {"harmonics", b.harmonics},
           {"wall_s", b.wall_s}};
+}
+
+}  // namespace
+
+json BoundsRecord(const BoundsResult& b) {
+  json j = BoundsRecordOneLevel(b);
+  if (!b.levels.empty()) j["levels"] = LevelsRecord(b.levels);
+  return j;
 }
 
 BoundsResult BoundsFromRecord(const json& j) {
@@ -160,6 +212,7 @@ BoundsResult BoundsFromRecord(const json& j) {
   b.refinement_fallbacks = ReadInt(j, "refinement_fallbacks");
   b.harmonics = ReadInt(j, "harmonics");
   b.wall_s = ReadReal(j, "wall_s");
+  b.levels = LevelsFromRecord(j);
   return b;
 }
 

@@ -111,6 +111,14 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "optimum at H, 0 searches at H (default: the case's "
                   "analysis.search_harmonics)")
       ->check(CLI::Range(0, 1));
+  cmd->add_option("--search", search,
+                  "Bound search preset: quick (4 corners of the coarsest alpha level), default "
+                  "(16) or thorough (256 corners, 4 starts per direction)")
+      ->check(CLI::IsMember({"quick", "default", "thorough"}));
+  cmd->add_option("--alpha-levels", alpha_levels,
+                  "auto (default): search coarse to fine over the case's alpha levels (interface, "
+                  "face shapes, pair); pair: one level, the pair alpha only")
+      ->check(CLI::IsMember({"auto", "pair"}));
   cmd->add_option("--out", out, "Output directory (default results/<case>/<command>)");
   cmd->add_flag("--json", as_json, "Print one JSON object on stdout");
   cmd->add_flag("--quiet", quiet, "Print nothing but errors");

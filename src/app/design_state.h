@@ -15,6 +15,7 @@
 #include "app/cli_common.h"
 #include "app/design_commands.h"
 #include "app/result_files.h"
+#include "fricrom/alpha_levels.h"
 #include "fricrom/bounds.h"
 #include "fricrom/design.h"
 #include "fricrom/time_integration.h"
@@ -51,6 +52,8 @@ struct DesignCommands::State {
   std::string dominance = BoundsOptions{}.dominated_by_earlier_runs ? "runs" : "starts";
   int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
   bool interface_seeds = false;
+  std::string search = "default";     // --search: quick | default | thorough (MakeLevelOptions)
+  std::string alpha_levels = "auto";  // --alpha-levels: auto (the case's hierarchy) | pair
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
   std::vector<double> range;              // bounds --range LO HI [Hz]; empty: the case's range
@@ -90,6 +93,20 @@ struct DesignCommands::State {
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
     return o;
   }
+  // The α levels of the case's bound search and the preset's starts on the coarsest level:
+  // quick 4 corners (1 start per direction), default 16 (2), thorough 256 (4).
+  LevelSearchOptions MakeLevelOptions(const Case& c) const {
+    LevelSearchOptions o;
+    if (alpha_levels == "auto") o.levels = AlphaLevelsOf(c);
+    if (search == "quick") {
+      o.max_corners = 4;
+      o.corner_starts = 1;
+    } else if (search == "thorough") {
+      o.max_corners = 256;
+      o.corner_starts = 4;
+    }
+    return o;
+  }
   std::filesystem::path OutDir(const Case& c, const std::string& sub) const {
     std::filesystem::path d =
         out.empty() ? std::filesystem::path("results") / c.name / sub : std::filesystem::path(out);
@@ -125,7 +142,9 @@ struct DesignCommands::State {
               {"dominance", dominance},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
-              {"interface_seeds", interface_seeds}};
+              {"interface_seeds", interface_seeds},
+              {"search", search},
+              {"alpha_levels", alpha_levels}};
     j.update(extra);
     return j;
   }

@@ -87,6 +87,34 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   j["improved_by_samples"] = b.improved_by_samples;
   j["search_harmonics"] = b.search_harmonics;
   j["refinement_fallbacks"] = b.refinement_fallbacks;
+  // The α levels of the search, coarsest first: each level's bounds [m] contain the coarser
+  // levels'; the finest is the point's own (after a curve's neighbour pass).
+  json levels = json::array();
+  for (size_t l = 0; l < b.levels.size(); ++l) {
+    const LevelBound& lv = b.levels[l];
+    const bool own = l + 1 == b.levels.size();
+    const BoundSolution& lo = own ? b.min : lv.min;
+    const BoundSolution& hi = own ? b.max : lv.max;
+    const double r = lo.IsUsable() && hi.IsUsable() && hi.amplitude > 0.0
+                         ? lo.amplitude / hi.amplitude
+                         : std::numeric_limits<double>::quiet_NaN();
+    levels.push_back({{"level", lv.level},
+                      {"parameters", lv.parameters},
+                      {"y_min", NumberOrNull(lo.amplitude)},
+                      {"y_max", NumberOrNull(hi.amplitude)},
+                      {"R", NumberOrNull(r)},
+                      {"alpha_at_min", own ? json(nullptr) : json(ToStd(lv.min.alpha))},
+                      {"alpha_at_max", own ? json(nullptr) : json(ToStd(lv.max.alpha))},
+                      {"corners_solved", lv.corners_solved},
+                      {"corners_failed", lv.corners_failed},
+                      {"optimizer_runs", lv.optimizer_runs},
+                      {"samples_checked", lv.samples_checked},
+                      {"raised_by_coarser", lv.raised_by_coarser},
+                      {"wall_s", NumberOrNull(lv.wall_s)},
+                      {"refine_s", NumberOrNull(lv.refine_s)},
+                      {"corners_s", NumberOrNull(lv.corners_s)}});
+  }
+  j["levels"] = levels;
   return j;
 }
 

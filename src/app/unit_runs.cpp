@@ -267,7 +267,7 @@ class CurveUnits {
   // The units of each stage: unit i is point i (chain c for the continuations), as a record.
   const Unit first_ = [this](int i) {
     const BalancePool::Lease lease = pool_.Borrow();
-    return BoundsRecord(ComputeBounds(AtSearch(lease), freqs_[i], search_)).dump();
+    return BoundsRecord(SearchLevels(AtSearch(lease), freqs_[i], search_, options_.levels)).dump();
   };
   const Unit chain_ = [this](int c) {
     std::vector<double> f;
@@ -295,7 +295,9 @@ class CurveUnits {
   };
   const Unit refine_ = [this](int i) {
     const BalancePool::Lease lease = pool_.Borrow();
-    return BoundsRecord(RefineBoundsAtHarmonics(lease.get(), pass2_[i], options_.bounds)).dump();
+    return BoundsRecord(
+               RefineLevelsAtHarmonics(lease.get(), pass2_[i], options_.bounds, options_.levels))
+        .dump();
   };
 };
 

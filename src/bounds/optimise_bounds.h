@@ -25,4 +25,13 @@ BoundsResult OptimiseBounds(
     std::array<double, 2> held = {std::numeric_limits<double>::quiet_NaN(),
                                   std::numeric_limits<double>::quiet_NaN()});
 
+// OptimiseBounds from the given seeds, then the sample check (BoundsOptions::check_samples) with
+// its restarts: ComputeBounds' search at one H, for callers that choose the seeds themselves (the
+// α levels, level_search.cpp). Options must be valid.
+BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
+                             const BoundsOptions& options,
+                             const std::vector<Eigen::VectorXd>& seeds,
+                             const std::vector<Eigen::VectorXd>& known_x = {},
+                             const std::vector<int>& directions = {});
+
 }  // namespace fricrom

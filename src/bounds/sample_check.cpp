@@ -139,22 +139,13 @@ void AddRunCounts(const BoundsResult& from, BoundsResult* into) {
 
 }  // namespace
 
-namespace {
-
-BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
-                                  const BoundsOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw std::invalid_argument(error);
-  if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
-    throw std::invalid_argument("ComputeBounds: freq_hz must be positive and finite, got " +
-                                std::to_string(freq_hz));
-  }
-  const int nc = system.num_alpha();
-  SeedCounts counts;
-  const std::vector<Eigen::VectorXd> seeds = AlphaSeeds(nc, options, &counts);
-  BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds);
-  result.seed_counts = counts;
-  if (nc == 0 || options.check_samples == 0) return result;
+BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
+                             const BoundsOptions& options,
+                             const std::vector<Eigen::VectorXd>& seeds,
+                             const std::vector<Eigen::VectorXd>& known_x,
+                             const std::vector<int>& directions) {
+  BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds, known_x, directions);
+  if (system.num_alpha() == 0 || options.check_samples == 0) return result;
 
   const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);
   if (!c.have_low && !c.have_high) return result;
@@ -185,6 +176,23 @@ BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
   };
   improve(false, c.have_low, c.low, c.alpha_low, again.min);
   improve(true, c.have_high, c.high, c.alpha_high, again.max);
+  return result;
+}
+
+namespace {
+
+BoundsResult ComputeBoundsUntimed(const HarmonicBalance& system, double freq_hz,
+                                  const BoundsOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  if (!(freq_hz > 0.0) || !std::isfinite(freq_hz)) {
+    throw std::invalid_argument("ComputeBounds: freq_hz must be positive and finite, got " +
+                                std::to_string(freq_hz));
+  }
+  SeedCounts counts;
+  const std::vector<Eigen::VectorXd> seeds = AlphaSeeds(system.num_alpha(), options, &counts);
+  BoundsResult result = SearchFromSeeds(system, freq_hz, options, seeds);
+  result.seed_counts = counts;
   return result;
 }
 

@@ -32,7 +32,7 @@ bool BoundCurveOptions::IsValid(std::string* error) const {
         "BoundCurveOptions.threads must be >= 0 (0: every core), got " + std::to_string(threads);
     return false;
   }
-  return bounds.IsValid(error);
+  return bounds.IsValid(error) && levels.IsValid(error);
 }
 
 namespace {
@@ -270,7 +270,8 @@ BoundCurve ComputeBoundCurve(
           };
         }
         const BalancePool::Lease lease = pool.Borrow();
-        pass1[i] = ComputeBounds(SearchBalance(lease.get(), options.bounds), freqs_hz[i], bo);
+        pass1[i] = SearchLevels(SearchBalance(lease.get(), options.bounds), freqs_hz[i], bo,
+                                options.levels);
       },
       [&](int) {
         if (progress) progress("frequencies", ++done, static_cast<int>(anchors.size()));
@@ -329,7 +330,8 @@ BoundCurve ComputeBoundCurve(
         all, threads,
         [&](int i) {
           const BalancePool::Lease lease = pool.Borrow();
-          points[i] = RefineBoundsAtHarmonics(lease.get(), points[i], options.bounds);
+          points[i] =
+              RefineLevelsAtHarmonics(lease.get(), points[i], options.bounds, options.levels);
         },
         [&](int) {
           if (progress) progress("harmonic refinement", ++done, n);
