@@ -37,6 +37,8 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # alpha-grid test every 7th point, the FE cascade's verify one time integration.
 export FRICROM_TEST_SWEEP_STEPS=16 FRICROM_TEST_CURVE_POINTS=8 FRICROM_TEST_GRID_STRIDE=7
 export FRICROM_TEST_TIME_RUNS=1
+# The FE alpha-level tests at one point at H = 1 (tests/bounds/level_search_test.cpp).
+export FRICROM_TEST_FE_LADDER=0
 # The Release run's test times, where there are some, order this run too (longest first): without
 # them ctest starts the tests in their order and a few 10-25 s ones ran alone at its end.
 if [ -f build/Testing/Temporary/CTestCostData.txt ]; then

@@ -39,6 +39,13 @@ struct AlphaLevel {
 // next finer one is dropped.
 std::vector<AlphaLevel> AlphaLevelsOf(const Case& c);
 
+// Structured α a certificate tests beside uniform samples of the fine box (which, in hundreds of
+// dimensions, all land near the box's middle): per coarse level, the corners ±1 of every
+// parameter alone and of all parameters together, and every parameter at −1 with the rest at +1
+// (and the opposite); on the face level every gradient shape alone (±), which tilts one face, and
+// each gradient over all faces at once. Fine α, duplicates removed; none for a one-level case.
+std::vector<Eigen::VectorXd> StructuredAlphaPatterns(const std::vector<AlphaLevel>& levels);
+
 // `inner` with a level's parameters as its α (α_fine = clamp(P c)); ∂R/∂c = ∂R/∂α · D P with D the
 // unsaturated entries (|P c| ≤ 1: a saturated entry's one-sided derivative is kept at the edge).
 // Borrows `inner`, which must outlive it, or owns the balance it was given.

@@ -19,6 +19,9 @@ struct CertificationEvidence {
   // Time integrations whose final state, refined by Newton into a harmonic-balance solution at
   // its equivalent α, lies beyond the bounds: proof that a bound is a local optimum only.
   int time_states_beyond = 0;
+  // Bounds (0-2) of the bound run that a sample or a time state went beyond: the run is reported
+  // as beaten, never certified, even where the improved bounds then hold everything.
+  int bounds_beaten = 0;
 };
 
 // Why the evidence does not certify the bounds; empty: certified.

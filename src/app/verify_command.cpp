@@ -18,7 +18,9 @@
 #include "app/progress_line.h"
 #include "app/result_files.h"
 #include "app/unit_runs.h"
+#include "fricrom/alpha_levels.h"
 #include "fricrom/balance_pool.h"
+#include "fricrom/bound_search.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
 #include "fricrom/frf.h"
@@ -217,6 +219,12 @@ void PrintCertification(const json& j, const std::filesystem::path& file) {
   std::cout << "  alpha sampling: " << smp.at("converged") << "/" << smp.at("samples")
             << " solved, " << smp.at("outside") << " outside the bounds, sampled range ["
             << num(smp.at("sampled_min")) << ", " << num(smp.at("sampled_max")) << "]\n";
+  for (const char* kind : {"structured", "uniform"}) {
+    const json& k = smp.at(kind);
+    std::cout << "    " << kind << ": " << k.at("converged") << "/" << k.at("samples")
+              << " solved, " << k.at("outside") << " outside, range [" << num(k.at("sampled_min"))
+              << ", " << num(k.at("sampled_max")) << "]\n";
+  }
   for (const json& r : j.at("time_integration")) {
     std::cout << "  time integration: " << r.dump() << "\n";
   }
@@ -237,26 +245,34 @@ int DesignCommands::State::RunVerify() {
   const HarmonicBalance& system = *balance;
   const int nc = system.num_alpha();
   const BoundsOptions bo = MakeBoundsOptions(c);
+  const LevelSearchOptions levels = MakeLevelOptions(c);
   const VerifyAlphas drawn = DrawAlphas(nc, samples, ti_runs);
-  const std::vector<Eigen::VectorXd>& alphas = drawn.samples;
+  // Structured α first (the levels' corners and face tilts, which uniform samples of a large box
+  // never come near), then the uniform samples.
+  std::vector<Eigen::VectorXd> alphas = StructuredAlphaPatterns(levels.levels);
+  const int structured = static_cast<int>(alphas.size());
+  alphas.insert(alphas.end(), drawn.samples.begin(), drawn.samples.end());
+  const int all_samples = static_cast<int>(alphas.size());
   const std::vector<Eigen::VectorXd>& ti_alphas = drawn.time_runs;
   // Units: 0 the bounds, then the α samples, then the time integrations (threads or MPI ranks).
   BalancePool pool(system, [&] { return MakeCaseBalance(c); });
   const auto unit = [&](int k) -> std::string {
-    if (k == 0) return BoundsRecord(ComputeBounds(pool.Borrow().get(), freq, bo)).dump();
-    if (k <= samples) {
+    if (k == 0) {
+      return BoundsRecord(ComputeLevelBounds(pool.Borrow().get(), freq, bo, levels)).dump();
+    }
+    if (k <= all_samples) {
       const BalancePool::Lease lease = pool.Borrow();
       const FrfPoint p =
           SolveAtFrequency(lease.get(), alphas[k - 1], freq, Eigen::VectorXd(), FrfOptions{});
       return Num(p.status == SolverStatus::kConverged ? p.amplitude : NAN).dump();
     }
-    return TimeIntegrationUnit(c, pool, ti_alphas[k - 1 - samples], freq, time_options);
+    return TimeIntegrationUnit(c, pool, ti_alphas[k - 1 - all_samples], freq, time_options);
   };
   Progress progress{ShowProgress(), "verify"};
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
   const std::vector<std::string> texts =
-      RunTextUnits(1 + samples + ti_runs, bo.method == BoundsOptions::kReducedSpace ? threads : 1,
-                   unit, progress);
+      RunTextUnits(1 + all_samples + ti_runs,
+                   bo.method == BoundsOptions::kReducedSpace ? threads : 1, unit, progress);
   progress.Done();
   if (MpiRank() != 0) return 0;
   BoundsResult b = BoundsFromRecord(json::parse(texts[0]));
@@ -264,14 +280,14 @@ int DesignCommands::State::RunVerify() {
     std::cerr << "fricrom: bounds did not converge: " << b.BriefReport() << "\n";
     return 1;
   }
-  std::vector<double> y(samples);
-  for (int i = 0; i < samples; ++i) {
+  std::vector<double> y(all_samples);
+  for (int i = 0; i < all_samples; ++i) {
     const json v = json::parse(texts[1 + i]);
     y[i] = v.is_null() ? NAN : v.get<double>();
   }
   json runs = json::array();
   for (int i = 0; i < ti_runs; ++i) {
-    json r = json::parse(texts[1 + samples + i]);
+    json r = json::parse(texts[1 + all_samples + i]);
     r["initial_alpha"] = ToStd(ti_alphas[i]);
     runs.push_back(r);
   }
@@ -290,9 +306,18 @@ int DesignCommands::State::RunVerify() {
   }
   const double lo = b.min.amplitude, hi = b.max.amplitude;
   const SampleTally st = TallySamples(y, lo, hi);
+  const SampleTally st_structured =
+      TallySamples(std::vector<double>(y.begin(), y.begin() + structured), lo, hi);
+  const SampleTally st_uniform =
+      TallySamples(std::vector<double>(y.begin() + structured, y.end()), lo, hi);
+  // How far the bound run's own bounds were beaten (relative), by samples or time states.
+  const double excess_min = std::isfinite(lo0) && lo < lo0 ? (lo0 - lo) / lo0 : 0.0;
+  const double excess_max = std::isfinite(hi0) && hi > hi0 ? (hi - hi0) / hi0 : 0.0;
   const RunTally rt = JudgeRuns(&runs, lo, hi);
-  const std::vector<std::string> reasons = CertificationGaps(
-      {samples, st.failed, st.outside, ti_runs, rt.unsteady, rt.outside, rt.beyond});
+  CertificationEvidence evidence{all_samples, st.failed,  st.outside, ti_runs,
+                                 rt.unsteady, rt.outside, rt.beyond};
+  evidence.bounds_beaten = moved;
+  const std::vector<std::string> reasons = CertificationGaps(evidence);
   const bool certified = reasons.empty();
   json j;
   j["freq_hz"] = freq;
@@ -302,11 +327,22 @@ int DesignCommands::State::RunVerify() {
                           {"bounds_moved", moved},
                           {"y_min_optimised", Num(lo0)},
                           {"y_max_optimised", Num(hi0)}};
-  j["sampling"] = {
-      {"samples", samples},         {"converged", samples - st.failed},
-      {"failed", st.failed},        {"failed_share", static_cast<double>(st.failed) / samples},
-      {"inside", st.inside},        {"outside", st.outside},
-      {"sampled_min", Num(st.min)}, {"sampled_max", Num(st.max)}};
+  j["bounds_beaten"] = {{"count", moved},
+                        {"y_min_relative_excess", excess_min},
+                        {"y_max_relative_excess", excess_max}};
+  const auto tally = [](const SampleTally& t, int n) {
+    return json{{"samples", n},
+                {"converged", n - t.failed},
+                {"failed", t.failed},
+                {"failed_share", n > 0 ? static_cast<double>(t.failed) / n : 0.0},
+                {"inside", t.inside},
+                {"outside", t.outside},
+                {"sampled_min", Num(t.min)},
+                {"sampled_max", Num(t.max)}};
+  };
+  j["sampling"] = tally(st, all_samples);
+  j["sampling"]["structured"] = tally(st_structured, structured);
+  j["sampling"]["uniform"] = tally(st_uniform, all_samples - structured);
   j["time_integration"] = runs;
   j["time_integration_outside"] = rt.outside;
   j["time_integration_unsteady"] = rt.unsteady;

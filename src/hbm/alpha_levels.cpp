@@ -36,6 +36,62 @@ bool AlphaLevel::Lift(const Eigen::VectorXd& alpha, Eigen::VectorXd* c) const {
   return (FineAlpha(*c) - alpha).lpNorm<Eigen::Infinity>() <= 1e-10;
 }
 
+std::vector<Eigen::VectorXd> StructuredAlphaPatterns(const std::vector<AlphaLevel>& levels) {
+  std::vector<Eigen::VectorXd> out;
+  const auto add = [&out](const Eigen::VectorXd& a) {
+    for (const Eigen::VectorXd& b : out) {
+      if (b == a) return;
+    }
+    out.push_back(a);
+  };
+  for (size_t l = 0; l + 1 < levels.size(); ++l) {
+    const AlphaLevel& level = levels[l];
+    const int n = level.num_parameters();
+    // A gradient shape: a column that is not constant over its contacts (a face's s1, s2).
+    std::vector<int> gradients;
+    for (int j = 0; j < n; ++j) {
+      if (level.map.col(j).minCoeff() < 0.0) gradients.push_back(j);
+    }
+    if (gradients.empty()) {
+      for (double s : {1.0, -1.0}) add(level.FineAlpha(Eigen::VectorXd::Constant(n, s)));
+      for (int j = 0; j < n; ++j) {
+        for (double s : {1.0, -1.0}) {
+          Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+          c[j] = s;
+          add(level.FineAlpha(c));
+          c.setConstant(s);
+          c[j] = -s;
+          add(level.FineAlpha(c));
+        }
+      }
+      continue;
+    }
+    for (int j : gradients) {
+      for (double s : {1.0, -1.0}) {
+        Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+        c[j] = s;
+        add(level.FineAlpha(c));
+      }
+    }
+    // Each face's first and second gradient together over every face, both signs.
+    for (int which = 0; which < 2; ++which) {
+      for (double s : {1.0, -1.0}) {
+        Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
+        int k = 0;
+        for (int j = 0; j < n; ++j) {
+          if (level.map.col(j).minCoeff() >= 0.0) {
+            k = 0;
+            continue;
+          }
+          if (k++ == which) c[j] = s;
+        }
+        add(level.FineAlpha(c));
+      }
+    }
+  }
+  return out;
+}
+
 AlphaLevelBalance::AlphaLevelBalance(const HarmonicBalance& inner, AlphaLevel level)
     : inner_(&inner), level_(std::move(level)) {
   if (level_.map.rows() != inner_->num_alpha() || level_.map.cols() < 1) {

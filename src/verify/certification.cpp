@@ -26,6 +26,10 @@ std::vector<std::string> CertificationGaps(const CertificationEvidence& e) {
                    " time integrations end at a harmonic-balance solution beyond the bounds (the "
                    "bounds are local optima there)");
   }
+  if (e.bounds_beaten > 0) {
+    gaps.push_back("the bound run was beaten: " + std::to_string(e.bounds_beaten) +
+                   " of its bounds lay inside a solution found by the checks");
+  }
   return gaps;
 }
 

@@ -93,14 +93,14 @@ TEST(CliHardening, CertificateRestsOnEvidence) {
 // verify restarts the bound optimisation from the samples beyond a local bound: one seed (α = 0,
 // a KKT point of both directions at 266 Hz) and no sample check give y_min = y_max; 12 of the 16
 // corners lie below, the restart reaches the thorough y_min (2.0376e-4 m) and then all 16 lie
-// inside, so the run is certified and says that the bound moved.
+// inside. The bound run itself was beaten: it is reported as such (exit 1), never certified.
 TEST(CliHardening, VerifyRestartsFromSolutionsBeyondALocalBound) {
   TempDir tmp;
   const CliRun r = Stdout("verify " + Quote(kBaseline) +
                           " --freq 266 --seeds 0,0,0,0 --check-samples 0 --alpha-samples 16 "
                           "--time-runs 0 --json" +
                           Out(tmp));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(r.exit_code, 1) << r.output;
   const json j = json::parse(r.output);
   const json& imp = j.at("bounds_improved");
   EXPECT_GE(imp.at("restarts").get<int>(), 1);
@@ -111,7 +111,12 @@ TEST(CliHardening, VerifyRestartsFromSolutionsBeyondALocalBound) {
   EXPECT_EQ(j.at("y_max").get<double>(), imp.at("y_max_optimised").get<double>());
   EXPECT_EQ(j.at("sampling").at("outside").get<int>(), 0);
   EXPECT_LE(y_min, j.at("sampling").at("sampled_min").get<double>() * (1 + 1e-6));
-  EXPECT_TRUE(j.at("certified").get<bool>()) << r.output;
+  EXPECT_FALSE(j.at("certified").get<bool>()) << r.output;
+  EXPECT_EQ(j.at("bounds_beaten").at("count").get<int>(), 1);
+  EXPECT_NEAR(j.at("bounds_beaten").at("y_min_relative_excess").get<double>(),
+              1.0 - y_min / optimised, 1e-12);
+  ASSERT_EQ(j.at("not_certified_because").size(), 1u);
+  EXPECT_NE(j.at("not_certified_because")[0].get<std::string>().find("beaten"), std::string::npos);
 }
 
 // Defect 9: frf --freq converges where the sweep does, to the sweep's branch.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,14 @@
 
 namespace fricrom {
 namespace {
+
+// FRICROM_TEST_FE_LADDER=0 (the sanitizer run): the containment at one point at H = 1 (the
+// levels' search without the ladder's refinement) and no seed test: under ASan the ladder's
+// refinement next to the resonance takes many minutes.
+bool FullFeTests() {
+  const char* v = std::getenv("FRICROM_TEST_FE_LADDER");
+  return v == nullptr || std::string(v) != "0";
+}
 
 const Case& Cascade() {
   static const Case c = LoadCase(testing::kMeshes + "cascade3/coarse.toml");
@@ -114,17 +123,20 @@ TEST(LevelSearch, OneLevelIsComputeBounds) {
 // curve at the case's H = 3 on the harmonic ladder: at every point each level's bounds contain
 // the coarser levels' (fine y_min <= coarse y_min, fine y_max >= coarse y_max).
 TEST(LevelSearch, PairBoundsContainCoarserLevelsNearTheCascadeResonance) {
-  const auto system = CascadeBalance(3);
+  const bool full = FullFeTests();
+  const auto system = CascadeBalance(full ? 3 : 1);
   BoundCurveOptions co;
-  co.bounds.search_harmonics = 1;
+  co.bounds.search_harmonics = full ? 1 : 0;
   co.levels.levels = AlphaLevelsOf(Cascade());
   co.levels.max_corners = 4;  // the quick preset: the containment holds whatever the starts
   co.levels.corner_starts = 1;
-  const BoundCurve curve = ComputeBoundCurve(*system, EvenFrequencies(1090.0, 1110.0, 3), co);
+  const std::vector<double> freqs =
+      full ? EvenFrequencies(1090.0, 1110.0, 3) : std::vector<double>{1100.0};
+  const BoundCurve curve = ComputeBoundCurve(*system, freqs, co);
   for (const BoundsResult& p : curve.points) {
     ASSERT_EQ(p.levels.size(), 3u) << p.freq_hz;
     ASSERT_TRUE(p.IsUsable()) << p.freq_hz << " Hz: " << p.BriefReport();
-    EXPECT_EQ(p.harmonics, 3);
+    EXPECT_EQ(p.harmonics, full ? 3 : 1);
     for (size_t l = 0; l + 1 < p.levels.size(); ++l) {
       const LevelBound& coarse = p.levels[l];
       const BoundSolution& fine_min = l + 2 == p.levels.size() ? p.min : p.levels[l + 1].min;
@@ -144,6 +156,7 @@ TEST(LevelSearch, PairBoundsContainCoarserLevelsNearTheCascadeResonance) {
 // A bound is never worse than its own start solved at the reported harmonics: the interface
 // corner (t1: d1L -1, d1R -1, d2L +1, d2R +1; t2: 0) per pair at 1100 Hz, H = 3 on the ladder.
 TEST(LevelSearch, BoundIsNeverWorseThanItsSeedAtTheReportedHarmonics) {
+  if (!FullFeTests()) GTEST_SKIP() << "FRICROM_TEST_FE_LADDER=0";
   const auto system = CascadeBalance(3);
   const std::vector<AlphaLevel> levels = AlphaLevelsOf(Cascade());
   const Eigen::VectorXd corner =

@@ -36,5 +36,15 @@ TEST(Certification, AnHbmSolutionBeyondTheBoundsBreaksTheCertificate) {
   EXPECT_TRUE(CertificationGaps({200, 0, 0, 4, 0, 0, 0}).empty());
 }
 
+// A bound run that a check beat is reported as beaten and never certified, even where everything
+// lies inside the bounds improved from the check's solution.
+TEST(Certification, ABeatenBoundRunIsNeverCertified) {
+  CertificationEvidence e{200, 0, 0, 4, 0, 0, 0};
+  e.bounds_beaten = 1;
+  const auto gaps = CertificationGaps(e);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_NE(gaps[0].find("beaten"), std::string::npos) << gaps[0];
+}
+
 }  // namespace
 }  // namespace fricrom
