@@ -112,8 +112,9 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "analysis.search_harmonics)")
       ->check(CLI::Range(0, 1));
   cmd->add_option("--search", search,
-                  "Bound search preset: quick (4 corners of the coarsest alpha level), default "
-                  "(16) or thorough (256 corners, 4 starts per direction)")
+                  "Bound search preset: quick (16 corners of the coarsest alpha level, 1 start "
+                  "per direction), default (256, 2) or thorough (4096, 4; and at least 8 random "
+                  "seeds and 64 check samples)")
       ->check(CLI::IsMember({"quick", "default", "thorough"}));
   cmd->add_option("--alpha-levels", alpha_levels,
                   "auto (default): search coarse to fine over the case's alpha levels (interface, "

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -91,18 +92,22 @@ struct DesignCommands::State {
     o.maximum_bfgs_memory = maximum_bfgs_memory;
     o.dominated_by_earlier_runs = dominance == "runs";
     o.search_harmonics = search_harmonics >= 0 ? search_harmonics : c.analysis.search_harmonics;
+    if (search == "thorough") {  // the preset's finest level: more starts and samples
+      o.random_seeds = std::max(o.random_seeds, 8);
+      o.check_samples = std::max(o.check_samples, 64);
+    }
     return o;
   }
   // The α levels of the case's bound search and the preset's starts on the coarsest level:
-  // quick 4 corners (1 start per direction), default 16 (2), thorough 256 (4).
+  // quick 16 corners (1 start per direction), default 256 (2), thorough 4096 (4).
   LevelSearchOptions MakeLevelOptions(const Case& c) const {
     LevelSearchOptions o;
     if (alpha_levels == "auto") o.levels = AlphaLevelsOf(c);
     if (search == "quick") {
-      o.max_corners = 4;
+      o.max_corners = 16;
       o.corner_starts = 1;
     } else if (search == "thorough") {
-      o.max_corners = 256;
+      o.max_corners = 4096;
       o.corner_starts = 4;
     }
     return o;

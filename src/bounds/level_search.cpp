@@ -195,7 +195,12 @@ BoundsResult SearchOneLevel(const HarmonicBalance& view, double freq_hz,
     }
   }
   if (finest) {
-    for (const Eigen::VectorXd& a : options.alpha_seeds) starts.Add(a, Eigen::VectorXd(), 3);
+    // After the coarser optima (which set the bound the later runs must reach to go on): the
+    // single-level search's own seeds, so that the levels never lose what it finds (at 1102 Hz
+    // its per-pair runs from them reached y_min 1.3e-6 m where the levels' stopped at 1.9e-5).
+    const std::vector<Eigen::VectorXd>& own =
+        options.alpha_seeds.empty() ? DefaultAlphaSeeds(n) : options.alpha_seeds;
+    for (const Eigen::VectorXd& a : own) starts.Add(a, Eigen::VectorXd(), 3);
     std::mt19937 rng(options.sample_seed + 1);  // as AlphaSeeds' random seeds
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (int r = 0; r < options.random_seeds; ++r) {

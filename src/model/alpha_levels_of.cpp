@@ -29,13 +29,15 @@ std::vector<std::vector<int>> InterfaceGroups(const Case& c, std::vector<std::st
   std::vector<std::vector<int>> groups;
   for (int k = 0; k < nc; ++k) {
     const int d = DirectionOf(c.model.contacts[k].name);
-    const std::pair<int, int> key =
-        fe ? std::make_pair(c.contact_interface[k], d) : std::make_pair(-1 - k, 0);
+    // A contact outside the case's interfaces (given one by one, index −1) is its own interface.
+    const int iface = fe ? c.contact_interface[k] : -1;
+    const bool named = iface >= 0 && iface < static_cast<int>(c.interface_names.size());
+    const std::pair<int, int> key = named ? std::make_pair(iface, d) : std::make_pair(-1 - k, 0);
     auto [it, added] = index.emplace(key, static_cast<int>(groups.size()));
     if (added) {
       groups.emplace_back();
-      names->push_back(fe ? c.interface_names.at(key.first) + (d ? ".t2" : ".t1")
-                          : c.model.contacts[k].name);
+      names->push_back(named ? c.interface_names[iface] + (d ? ".t2" : ".t1")
+                             : c.model.contacts[k].name);
     }
     groups[it->second].push_back(k);
   }

@@ -43,12 +43,17 @@ std::unique_ptr<HarmonicBalance> CascadeBalance(int harmonics) {
                      BalanceKind::kCondensed);
 }
 
+// The lumped case, and the same as an FE assembly of one-pair interfaces and contacts given one
+// by one (meshes/lumped3/as_fe): each contact its own interface, one level.
 TEST(AlphaLevels, LumpedCaseHasOneLevel) {
-  const std::vector<AlphaLevel> levels = AlphaLevelsOf(testing::LoadBaseline());
-  ASSERT_EQ(levels.size(), 1u);
-  EXPECT_EQ(levels[0].name, "pair");
-  EXPECT_TRUE(levels[0].IsIdentity());
-  EXPECT_EQ(levels[0].num_parameters(), 4);
+  for (const Case& c :
+       {testing::LoadBaseline(), LoadCase(testing::kMeshes + "lumped3/as_fe/case.toml")}) {
+    const std::vector<AlphaLevel> levels = AlphaLevelsOf(c);
+    ASSERT_EQ(levels.size(), 1u) << c.source;
+    EXPECT_EQ(levels[0].name, "pair");
+    EXPECT_TRUE(levels[0].IsIdentity());
+    EXPECT_EQ(levels[0].num_parameters(), 4);
+  }
 }
 
 // Interface: 4 interfaces x 2 directions; face: uniform + two in-plane gradients each; pair: 216.
