@@ -3,6 +3,7 @@
 # with the α levels (default and thorough presets) and with the single-level per-pair search
 # (--alpha-levels pair); then the table of docs/bounds-and-design.md ("Bounds over α levels").
 #   bash benchmarks/level_bounds.sh OUT_DIR [FREQS...]      (default 1090 1094 1098 1100 1102 1106 1110)
+#   LEVEL_BOUNDS_SET=gamma=0.15 bash benchmarks/level_bounds.sh OUT_DIR 1100   (a case parameter)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:?usage: level_bounds.sh OUT_DIR [FREQS...]}
@@ -14,8 +15,9 @@ case=meshes/cascade3/coarse.toml
 for f in "${freqs[@]}"; do
   for v in levels pair thorough; do
     extra=()
-    [ "$v" = pair ] && extra=(--alpha-levels pair)
-    [ "$v" = thorough ] && extra=(--search thorough)
+    [ -n "${LEVEL_BOUNDS_SET:-}" ] && extra+=(--set "$LEVEL_BOUNDS_SET")
+    [ "$v" = pair ] && extra+=(--alpha-levels pair)
+    [ "$v" = thorough ] && extra+=(--search thorough)
     ./build/fricrom bounds "$case" --freq "$f" --threads 1 --json --quiet "${extra[@]}" \
       --out "$out/$v$f" > "$out/$v$f.json" || true
   done
