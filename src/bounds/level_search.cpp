@@ -163,7 +163,7 @@ void CornerStarts(const HarmonicBalance& view, double freq_hz, const LevelSearch
   // cold routes of a fixed-α solve (`frf --freq`: the α homotopy, continuations in frequency):
   // next to the resonance they reach the branches the minimum lies on (1100 Hz: the corner
   // t1 = (−1, −1, +1, +1) at 6.2e-5 m where Newton from its neighbours stays at 1.7e-4 m).
-  const int k_cold = std::min(n, 4);
+  const int k_cold = std::min(k, 4);
   for (int m = 0; m < (1 << k_cold); ++m) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
     for (int j = 0; j < k_cold; ++j) c[chosen[j]] = (m >> j) & 1 ? 1.0 : -1.0;
