@@ -234,6 +234,9 @@ struct LevelBound {
   // Bounds of this level that a coarser level's optimum went beyond (0-2): evidence that the
   // level's own runs fell short where the hierarchy holds them.
   int raised_by_coarser = 0;
+  // The finest level only: the single-level search's own optima at the search's H, refined at H
+  // beside the level's (their order at H = 1 need not hold at H: 1106 Hz).
+  BoundSolution single_min, single_max;
   double wall_s = 0.0;     // the level's search and (on the harmonic ladder) refinement
   double refine_s = 0.0;   // of which the refinement at H
   double corners_s = 0.0;  // of which the corners' solves

@@ -119,6 +119,8 @@ json LevelsRecord(const std::vector<LevelBound>& levels) {
                  {"samples_checked", l.samples_checked},
                  {"improved_by_samples", l.improved_by_samples},
                  {"raised_by_coarser", l.raised_by_coarser},
+                 {"single_min", SolutionRecord(l.single_min)},
+                 {"single_max", SolutionRecord(l.single_max)},
                  {"wall_s", Real(l.wall_s)},
                  {"refine_s", Real(l.refine_s)},
                  {"corners_s", Real(l.corners_s)}});
@@ -144,6 +146,8 @@ std::vector<LevelBound> LevelsFromRecord(const json& j) {
     l.samples_checked = ReadInt(r, "samples_checked");
     l.improved_by_samples = ReadInt(r, "improved_by_samples");
     l.raised_by_coarser = ReadInt(r, "raised_by_coarser");
+    l.single_min = SolutionFromRecord(Key(r, "single_min"));
+    l.single_max = SolutionFromRecord(Key(r, "single_max"));
     l.wall_s = ReadReal(r, "wall_s");
     l.refine_s = ReadReal(r, "refine_s");
     l.corners_s = ReadReal(r, "corners_s");

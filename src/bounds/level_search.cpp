@@ -6,7 +6,6 @@
 #include <limits>
 #include <memory>
 #include <numeric>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -227,24 +226,22 @@ BoundsResult SearchOneLevel(const HarmonicBalance& view, double freq_hz,
       }
     }
   }
-  if (finest) {
-    // After the coarser optima (which set the bound the later runs must reach to go on): the
-    // single-level search's own seeds, so that the levels never lose what it finds (at 1102 Hz
-    // its per-pair runs from them reached y_min 1.3e-6 m where the levels' stopped at 1.9e-5).
-    const std::vector<Eigen::VectorXd>& own =
-        options.alpha_seeds.empty() ? DefaultAlphaSeeds(n) : options.alpha_seeds;
-    for (const Eigen::VectorXd& a : own) starts.Add(a, Eigen::VectorXd(), 3);
-    std::mt19937 rng(options.sample_seed + 1);  // as AlphaSeeds' random seeds
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    for (int r = 0; r < options.random_seeds; ++r) {
-      Eigen::VectorXd a(n);
-      for (int i = 0; i < n; ++i) a[i] = uniform(rng);
-      starts.Add(a, Eigen::VectorXd(), 3);
-    }
-  }
   if (starts.alpha.empty()) starts.Add(Eigen::VectorXd::Zero(n), Eigen::VectorXd(), 3);
   BoundsResult r = SearchFromSeeds(view, freq_hz, lo, starts.alpha, starts.x, starts.directions);
   r.seed_counts.base = static_cast<int>(starts.alpha.size());
+  if (finest && coarser != nullptr) {
+    // The single-level search itself (its seeds: --seeds, else the default set; random seeds),
+    // on its own, merged: its runs are not stopped by the coarser optima's bounds, so the levels
+    // never lose what it finds (1102 Hz: y_min 1.3e-6 m where the levels' runs stopped at
+    // 1.9e-5; 1106 Hz: 3.8e-6 against 4.3e-6 with its seeds after the coarser optima).
+    BoundsOptions single = lo;
+    single.alpha_seeds = options.alpha_seeds;
+    single.random_seeds = options.random_seeds;
+    const BoundsResult own = SearchFromSeeds(view, freq_hz, single, AlphaSeeds(n, single));
+    record->single_min = own.min;
+    record->single_max = own.max;
+    MergeBounds(own, options.objective, &r);
+  }
   if (coarser != nullptr) {
     const double omega = RadPerS(freq_hz);
     for (const BoundSolution* b : {&coarser->min, &coarser->max}) {
@@ -430,6 +427,19 @@ BoundsResult RefineLevelsAtHarmonics(const HarmonicBalance& system, const Bounds
       }
     }
     RefineLevel(view, from, l == 0 ? nullptr : &low.levels[l - 1], options, &r);
+    if (l + 1 == nl) {
+      // The single-level search's optima too, where they are not the level's own.
+      BoundsResult single;
+      single.freq_hz = low.freq_hz;
+      single.min = low.levels[l].single_min;
+      single.max = low.levels[l].single_max;
+      for (bool is_max : {false, true}) {
+        BoundSolution& s = is_max ? single.max : single.min;
+        const BoundSolution& own = is_max ? from.max : from.min;
+        if (s.IsUsable() && own.IsUsable() && s.alpha == own.alpha) s.status = BoundStatus::kFailed;
+      }
+      RefineLevel(view, single, nullptr, options, &r);
+    }
     if (!r.min.IsUsable() || !r.max.IsUsable()) {
       // Lost at H with nothing held: the whole rung (with its own fallback, the search at H).
       MergeBounds(RefineBoundsAtHarmonics(view, from, options), options.objective, &r);
