@@ -34,6 +34,10 @@ class AlphaGroupedBalance final : public HarmonicBalance {
   Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& x) const override {
     return inner_->FromDofCoefficients(x);
   }
+  Eigen::VectorXd ToDofCoefficients(const Eigen::VectorXd& x, double omega,
+                                    const Eigen::VectorXd& alpha) const override {
+    return inner_->ToDofCoefficients(x, omega, Expand(alpha));
+  }
   Eigen::VectorXd StickLinearSolution(double omega) const override {
     return inner_->StickLinearSolution(omega);
   }

@@ -67,6 +67,10 @@ class AlphaLevelBalance final : public HarmonicBalance {
   Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& x) const override {
     return inner_->FromDofCoefficients(x);
   }
+  Eigen::VectorXd ToDofCoefficients(const Eigen::VectorXd& x, double omega,
+                                    const Eigen::VectorXd& c) const override {
+    return inner_->ToDofCoefficients(x, omega, Fine(c));
+  }
   Eigen::VectorXd StickLinearSolution(double omega) const override {
     return inner_->StickLinearSolution(omega);
   }

@@ -78,6 +78,10 @@ class CondensedSystem : public HarmonicBalance {
   Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& x_full) const override {
     return Condense(x_full);
   }
+  Eigen::VectorXd ToDofCoefficients(const Eigen::VectorXd& x, double omega,
+                                    const Eigen::VectorXd& alpha) const override {
+    return Recover(x, omega, alpha);
+  }
 
  private:
   // The sibling with fewer harmonics (WithFewerHarmonics).

@@ -34,8 +34,9 @@ struct ResonanceResult {
   BoundsResult bounds;   // the bounds at freq_hz
   int bound_solves = 0;
 };
+// Each bound solve is ComputeLevelBounds over `levels` (none or one level: ComputeBounds).
 ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
-                              const BoundsOptions& bounds);
+                              const BoundsOptions& bounds, const LevelSearchOptions& levels = {});
 
 // Bound curve. Pass 1 computes every frequency on its own (independent units of work); pass 2
 // (the warm start) re-optimises each point from the optima of its neighbours (the optimum moves
@@ -145,6 +146,10 @@ struct RobustnessPoint {
 
 struct SweepOptions {
   BoundsOptions bounds;
+  // The α levels of every value's bound run (ComputeLevelBounds; none or one: ComputeBounds).
+  // The levels' maps must fit every value's α count: a design parameter that changes the
+  // contacts (a mesh) needs its own levels, i.e. a sweep of its own per mesh.
+  LevelSearchOptions levels;
   // R is evaluated at reference_freq_hz when track_peak is false (the NOA's ω_ref), else at the
   // peak of y_max located for every parameter value within `search`.
   double reference_freq_hz = 0.0;

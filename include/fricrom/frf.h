@@ -27,6 +27,9 @@ struct FrfOptions {
   // A frequency continuation that runs out of points still ends in Newton at f from its last
   // point (next to a resonance it stops a few hertz short, where Newton converges).
   int fallback_max_points = 2000;
+  // Frequency continuations SolveAtFrequency tries, nearest first (0.95 f, 1.05 f, 0.9 f, 1.1 f,
+  // 0.8 f, 1.25 f, 0.5 f): fewer for callers that solve many points and can lose a few.
+  int frequency_fallbacks = 7;
   bool IsValid(std::string* error) const;
 };
 

@@ -127,6 +127,10 @@ class HarmonicBalance {
   // condensed one the contacts' relative displacements and the response DOF. Throws
   // std::invalid_argument on a size mismatch.
   virtual Eigen::VectorXd FromDofCoefficients(const Eigen::VectorXd& dof_coefficients) const;
+  // The harmonic coefficients of every DOF (hbm.h layout) of this balance's solution x at
+  // (ω, α): x itself for the full balance, the recovered DOFs for the condensed one.
+  virtual Eigen::VectorXd ToDofCoefficients(const Eigen::VectorXd& x, double omega,
+                                            const Eigen::VectorXd& alpha) const;
 
   // Harmonic continuation: the same problem with fewer harmonics (1 ≤ harmonics < harmonics()),
   // cheap to build (it may share this one's linear part). From the stick start, Newton at H = 3

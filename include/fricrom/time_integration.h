@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "fricrom/contact_law.h"
+#include "fricrom/harmonic_balance.h"
 #include "fricrom/model.h"
 
 namespace fricrom {
@@ -120,6 +121,28 @@ std::string ToString(TimeIntegrationResult::Status status);
 TimeIntegrationResult IntegrateToSteadyState(const Model& model,
                                              const Eigen::VectorXd& initial_alpha,
                                              const TimeIntegrationOptions& options);
+
+// The state at t = 0 of a periodic solution, to integrate from (IntegrateFromPeriodicState).
+struct PeriodicStart {
+  Eigen::VectorXd displacement;   // q(0) [m]
+  Eigen::VectorXd velocity;       // q̇(0) [m/s]
+  Eigen::VectorXd contact_alpha;  // T/(μN) per contact at t = 0 (0 where open)
+};
+
+// The state at t = 0 of the harmonic-balance solution x of `system` (a balance of `model`) at
+// (ω, α): q and q̇ from its DOF coefficients, each contact's T/(μN) from its AFT history (the
+// law's state at θ = 0, which the time integrator continues from). Throws std::invalid_argument
+// where the balance's contacts are not the model's.
+PeriodicStart PeriodicStartOf(const Model& model, const HarmonicBalance& system,
+                              const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha);
+
+// Integrates from a periodic state with the harmonic loads fully on (no ramp; options'
+// ramp_periods ignored) by the implicit modal scheme, to see whether the state holds: a solution
+// that is a stable periodic response stays (steady after two windows, its amplitude the
+// state's), an unstable one leaves it. Throws as IntegrateToSteadyState, and on a start whose
+// sizes do not fit the model or whose contact_alpha lies outside [−1, 1].
+TimeIntegrationResult IntegrateFromPeriodicState(const Model& model, const PeriodicStart& start,
+                                                 const TimeIntegrationOptions& options);
 
 // Real Fourier coefficients of the last period in the HBM layout of hbm.h (harmonic-major,
 // [q̂0 | a1 | b1 | ... | aH | bH]), e.g. to start or compare an HBM solution. Throws

@@ -270,6 +270,7 @@ int DesignCommands::State::RunSweep() {
   int solves = 0;
   SweepOptions so;
   so.bounds = bo;
+  so.levels = MakeLevelOptions(c0);
   so.track_peak = track_peak;
   so.search.lo_hz = c0.analysis.freq_min_hz;
   so.search.hi_hz = c0.analysis.freq_max_hz;
@@ -405,6 +406,7 @@ int DesignCommands::State::RunNoa() {
       noa_objective == "one-minus-r" ? NoaOptions::kOneMinusR : NoaOptions::kLossFactorGap;
   no.scan_points = scan_points;
   no.inner.bounds = bo;
+  no.inner.levels = MakeLevelOptions(c0);
   // Under MPI, rank 0 locates the reference (possibly a peak search) and shares it.
   const double f = MpiRank() == 0 ? ReferenceFrequency(c0, bo, &ref_solves) : 0.0;
   no.inner.reference_freq_hz = BroadcastFromRoot(f);

@@ -165,7 +165,7 @@ struct DesignCommands::State {
     rs.lo_hz = c.analysis.freq_min_hz;
     rs.hi_hz = c.analysis.freq_max_hz;
     rs.scan_points = 21;
-    const ResonanceResult r = FindResonance(system, rs, bo);
+    const ResonanceResult r = FindResonance(system, rs, bo, MakeLevelOptions(c));
     *solves += r.bound_solves;
     if (!std::isfinite(r.freq_hz)) {
       throw NotConverged("no maximum-response bound converged over " + std::to_string(rs.lo_hz) +

@@ -41,7 +41,7 @@ bool ResonanceSearchOptions::IsValid(std::string* error) const {
 }
 
 bool SweepOptions::IsValid(std::string* error) const {
-  if (!bounds.IsValid(error)) return false;
+  if (!bounds.IsValid(error) || !levels.IsValid(error)) return false;
   if (threads < 0) {
     *error = "SweepOptions.threads must be >= 0 (0: every core)";
     return false;
@@ -71,12 +71,14 @@ bool NoaOptions::IsValid(std::string* error) const {
 }
 
 ResonanceResult FindResonance(const HarmonicBalance& system, const ResonanceSearchOptions& search,
-                              const BoundsOptions& bounds) {
+                              const BoundsOptions& bounds, const LevelSearchOptions& levels) {
   std::string error;
-  if (!search.IsValid(&error) || !bounds.IsValid(&error)) throw std::invalid_argument(error);
+  if (!search.IsValid(&error) || !bounds.IsValid(&error) || !levels.IsValid(&error)) {
+    throw std::invalid_argument(error);
+  }
   ResonanceResult r;
   auto ymax = [&](double f, BoundsResult* out) {
-    *out = ComputeBounds(system, f, bounds);
+    *out = ComputeLevelBounds(system, f, bounds, levels);
     ++r.bound_solves;
     return out->max.IsUsable() ? out->max.amplitude : -1.0;
   };
@@ -132,13 +134,13 @@ RobustnessPoint ComputeRobustnessPoint(const HarmonicBalance& system, double p,
   RobustnessPoint pt;
   pt.parameter = p;
   if (options.track_peak) {
-    const ResonanceResult rr = FindResonance(system, options.search, bo);
+    const ResonanceResult rr = FindResonance(system, options.search, bo, options.levels);
     pt.freq_hz = rr.freq_hz;
     pt.bounds = rr.bounds;
     pt.bound_solves = rr.bound_solves;
   } else {
     pt.freq_hz = options.reference_freq_hz;
-    pt.bounds = ComputeBounds(system, pt.freq_hz, bo);
+    pt.bounds = ComputeLevelBounds(system, pt.freq_hz, bo, options.levels);
     pt.bound_solves = 1;
   }
   pt.robustness = Robustness(pt.bounds);

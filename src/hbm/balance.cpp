@@ -32,6 +32,15 @@ Eigen::VectorXd HarmonicBalance::FromDofCoefficients(
   return dof_coefficients;
 }
 
+Eigen::VectorXd HarmonicBalance::ToDofCoefficients(const Eigen::VectorXd& x, double /*omega*/,
+                                                   const Eigen::VectorXd& /*alpha*/) const {
+  if (x.size() != num_unknowns()) {
+    throw std::invalid_argument("ToDofCoefficients: expected " + std::to_string(num_unknowns()) +
+                                " unknowns, got " + std::to_string(x.size()));
+  }
+  return x;
+}
+
 JacobianPattern HarmonicBalance::StructuralPattern() const {
   const int nx = num_unknowns(), n = nx + num_alpha();
   JacobianPattern p;

@@ -54,6 +54,10 @@ bool FrfOptions::IsValid(std::string* error) const {
     *error = "FrfOptions.max_points and fallback_max_points must be >= 1";
     return false;
   }
+  if (frequency_fallbacks < 0 || frequency_fallbacks > 7) {
+    *error = "FrfOptions.frequency_fallbacks must lie in [0, 7]";
+    return false;
+  }
   return newton.IsValid(error);
 }
 
@@ -326,8 +330,9 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
   // 2) Continuation in frequency from a nearby frequency where Newton from the stick solution
   //    converges: the route that makes the sweep succeed where a cold start at resonance fails.
   //    Nearest first, so that the branch followed crosses as few resonances as possible.
+  int tried = 0;
   for (double ratio : {0.95, 1.05, 0.9, 1.1, 0.8, 1.25, 0.5}) {
-    if (ok || !options.use_fallbacks) break;
+    if (ok || !options.use_fallbacks || tried++ >= options.frequency_fallbacks) break;
     const double f0 = freq_hz * ratio;
     Eigen::VectorXd x0;
     NewtonSummary s0;

@@ -275,6 +275,14 @@ class ModalStepper {
     eta_dd_ = op_.phi_f * w_ - ContactModalForce() - op_.lambda.cwiseProduct(eta_);
   }
 
+  // The seated state moving with velocity q̇ under load weights w (a periodic solution's t = 0).
+  void Launch(const Model& model, const Eigen::VectorXd& q_dot, const Eigen::VectorXd& w) {
+    w_ = w;
+    eta_d_ = op_.phi.transpose() * model.mass * q_dot;
+    eta_dd_ =
+        op_.phi_f * w_ - ContactModalForce() - op_.ck * eta_d_ - op_.lambda.cwiseProduct(eta_);
+  }
+
   // To load weights w at the next step; the Newton steps taken, or −1 if the contacts' solve did
   // not converge.
   int Advance(const Eigen::VectorXd& w, int max_iterations) {
@@ -390,7 +398,7 @@ class WindowedSteadyTest {
 TimeIntegrationResult IntegrateImplicitModal(const Model& model,
                                              const Eigen::VectorXd& initial_alpha,
                                              const TimeIntegrationOptions& options,
-                                             const ModalResult& stick) {
+                                             const ModalResult& stick, const PeriodicStart* start) {
   using Status = TimeIntegrationResult::Status;
   namespace ts = time_stepping;
   const int n = model.num_dofs();
@@ -412,15 +420,20 @@ TimeIntegrationResult IntegrateImplicitModal(const Model& model,
   }
   result.modes_integrated = static_cast<int>(op.phi.cols());
 
-  // Static state for the prescribed α, then the modal state at rest that reproduces it.
+  // Static state for the prescribed α, then the modal state at rest that reproduces it; or the
+  // given periodic state, moving, under the full loads.
   Eigen::VectorXd q;
-  if (!ts::SolveStatic(model, terms, initial_alpha, loads.vectors.col(0), &q, &result.message)) {
+  if (start) {
+    q = start->displacement;
+  } else if (!ts::SolveStatic(model, terms, initial_alpha, loads.vectors.col(0), &q,
+                              &result.message)) {
     result.status = Status::kStaticFailed;
     return result;
   }
   result.static_displacement = q;
   ModalStepper stepper(op, terms, loads, dt);
   stepper.Seat(model, q, initial_alpha, d_rows);
+  if (start) stepper.Launch(model, start->velocity, loads.Weights(0, ns, 1.0));
 
   PeriodRecord rec(op.phi.cols(), nc, loads.vectors.cols(), ns);
   Eigen::VectorXd cos_table(ns), sin_table(ns);

@@ -37,7 +37,7 @@ using time_stepping::ContactTerm;
 
 TimeIntegrationResult IntegrateImplicitModal(const Model& model, const Eigen::VectorXd& alpha,
                                              const TimeIntegrationOptions& options,
-                                             const ModalResult& stick);
+                                             const ModalResult& stick, const PeriodicStart* start);
 
 namespace {
 
@@ -46,6 +46,25 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
                                                  const Eigen::VectorXd& initial_alpha,
                                                  const TimeIntegrationOptions& options,
                                                  double omega_max);
+
+}  // namespace
+
+namespace {
+
+// The full-stick system is the stiffest state the contacts can take: its ω_max sets the explicit
+// limit, its modes are the implicit scheme's basis (throws if M is not positive definite).
+// FE-sized systems use LAPACK's dsygvd; small ones keep Eigen's solver, bit for bit.
+ModalResult FullStickModes(const Model& model, const std::string& caller) {
+  ModalResult stick;
+  if (model.num_dofs() <= 200) return StickSystemModes(model);
+  Eigen::VectorXd lambda;
+  if (!dense::SymmetricGeneralizedEigen(model.stiffness + ContactStickStiffness(model), model.mass,
+                                        &lambda, &stick.shapes)) {
+    throw std::invalid_argument(caller + ": mass matrix is not positive definite");
+  }
+  stick.frequencies_hz = lambda.unaryExpr(&HzFromEigenvalue);
+  return stick;
+}
 
 }  // namespace
 
@@ -115,7 +134,6 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
     throw std::invalid_argument("IntegrateToSteadyState: " + error);
   }
   model.Validate();
-  const int n = model.num_dofs();
   const int nc = static_cast<int>(model.contacts.size());
   if (alpha.size() != model.num_alpha()) {
     throw std::invalid_argument("IntegrateToSteadyState: initial_alpha needs one value per α (" +
@@ -130,20 +148,7 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
     }
   }
 
-  // The full-stick system is the stiffest state the contacts can take: its ω_max sets the
-  // explicit limit, its modes are the implicit scheme's basis (throws if M is not positive
-  // definite). FE-sized systems use LAPACK's dsygvd; small ones keep Eigen's solver, bit for bit.
-  ModalResult stick;
-  if (n <= 200) {
-    stick = StickSystemModes(model);
-  } else {
-    Eigen::VectorXd lambda;
-    if (!dense::SymmetricGeneralizedEigen(model.stiffness + ContactStickStiffness(model),
-                                          model.mass, &lambda, &stick.shapes)) {
-      throw std::invalid_argument("IntegrateToSteadyState: mass matrix is not positive definite");
-    }
-    stick.frequencies_hz = lambda.unaryExpr(&HzFromEigenvalue);
-  }
+  const ModalResult stick = FullStickModes(model, "IntegrateToSteadyState");
   const double omega_max = RadPerS(stick.frequencies_hz.maxCoeff());
   const double ratio = omega_max / (options.freq_hz * options.steps_per_period) / 2.0;
   TimeIntegrationOptions resolved = options;
@@ -153,7 +158,8 @@ TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::Ve
     if (resolved.ramp_periods < 0) resolved.ramp_periods = 300;
     if (resolved.steady_tolerance == 0.0) resolved.steady_tolerance = 1e-4;
     resolved.max_periods = std::max(resolved.max_periods, resolved.ramp_periods + 1);
-    TimeIntegrationResult r = IntegrateImplicitModal(model, initial_alpha, resolved, stick);
+    TimeIntegrationResult r =
+        IntegrateImplicitModal(model, initial_alpha, resolved, stick, nullptr);
     r.stability_ratio = ratio;
     return r;
   }
@@ -311,6 +317,63 @@ TimeIntegrationResult IntegrateCentralDifference(const Model& model,
 }
 
 }  // namespace
+
+PeriodicStart PeriodicStartOf(const Model& model, const HarmonicBalance& system,
+                              const Eigen::VectorXd& x, double omega,
+                              const Eigen::VectorXd& alpha) {
+  const int n = model.num_dofs(), h_max = system.harmonics();
+  const Eigen::VectorXd dof = system.ToDofCoefficients(x, omega, alpha);
+  const std::vector<ContactHistory> hist = system.ContactHistories(x, omega, alpha);
+  if (dof.size() != static_cast<Eigen::Index>(n) * (2 * h_max + 1) ||
+      hist.size() != model.contacts.size()) {
+    throw std::invalid_argument("PeriodicStartOf: the balance is not one of this model (" +
+                                std::to_string(dof.size()) + " coefficients, " +
+                                std::to_string(hist.size()) + " contacts)");
+  }
+  // q(t) = q̂0 + Σ a_h cos hωt + b_h sin hωt at t = 0, and its derivative.
+  PeriodicStart s{dof.head(n), Eigen::VectorXd::Zero(n),
+                  Eigen::VectorXd::Zero(static_cast<Eigen::Index>(hist.size()))};
+  for (int h = 1; h <= h_max; ++h) {
+    s.displacement += dof.segment(static_cast<Eigen::Index>(2 * h - 1) * n, n);
+    s.velocity += (h * omega) * dof.segment(static_cast<Eigen::Index>(2 * h) * n, n);
+  }
+  for (size_t c = 0; c < hist.size(); ++c) {
+    const double limit = model.contacts[c].mu * hist[c].normal[0];
+    // Round-off may put a slipping contact a hair beyond the limit.
+    if (limit > 0.0) s.contact_alpha[c] = std::clamp(hist[c].tangential[0] / limit, -1.0, 1.0);
+  }
+  return s;
+}
+
+TimeIntegrationResult IntegrateFromPeriodicState(const Model& model, const PeriodicStart& start,
+                                                 const TimeIntegrationOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) {
+    throw std::invalid_argument("IntegrateFromPeriodicState: " + error);
+  }
+  model.Validate();
+  const int n = model.num_dofs();
+  if (start.displacement.size() != n || start.velocity.size() != n ||
+      start.contact_alpha.size() != static_cast<Eigen::Index>(model.contacts.size())) {
+    throw std::invalid_argument(
+        "IntegrateFromPeriodicState: the start needs q and q-dot per DOF (" + std::to_string(n) +
+        ") and alpha per contact (" + std::to_string(model.contacts.size()) + ")");
+  }
+  if (!start.displacement.allFinite() || !start.velocity.allFinite() ||
+      !(start.contact_alpha.cwiseAbs().maxCoeff() <= 1.0 || start.contact_alpha.size() == 0)) {
+    throw std::invalid_argument(
+        "IntegrateFromPeriodicState: the start must be finite with |alpha| <= 1");
+  }
+  const ModalResult stick = FullStickModes(model, "IntegrateFromPeriodicState");
+  TimeIntegrationOptions resolved = options;
+  resolved.ramp_periods = 0;
+  if (resolved.steady_tolerance == 0.0) resolved.steady_tolerance = 1e-4;
+  TimeIntegrationResult r =
+      IntegrateImplicitModal(model, start.contact_alpha, resolved, stick, &start);
+  r.stability_ratio =
+      RadPerS(stick.frequencies_hz.maxCoeff()) / (options.freq_hz * options.steps_per_period) / 2;
+  return r;
+}
 
 Eigen::VectorXd LastPeriodCoefficients(const TimeIntegrationResult& result, int harmonics) {
   const Eigen::MatrixXd& d = result.last_period_displacements;

@@ -45,6 +45,29 @@ TEST(Design, RobustnessGrowsWithThePreloadAsymmetry) {
   EXPECT_EQ(r[3], ContactRegime::kStickSlip);
 }
 
+// A sweep's value runs the bound search over the sweep's α levels: each point is that value's
+// ComputeLevelBounds, with the levels' records; a level that does not fit the α count is refused.
+TEST(Design, SweepSearchesOverItsAlphaLevels) {
+  SweepOptions so = Inner();
+  const int n = Factory("gamma")(0.15)->num_alpha();
+  so.levels.levels = {
+      AlphaLevel{"all", Eigen::MatrixXd::Ones(n, 1), {"all"}},
+      AlphaLevel{"contact", Eigen::MatrixXd::Identity(n, n), std::vector<std::string>(n, "c")}};
+  so.levels.max_corners = 2;
+  const RobustnessPoint pt = SweepRobustness(Factory("gamma"), {0.15}, so).front();
+  const BoundsResult direct =
+      ComputeLevelBounds(*Factory("gamma")(0.15), 266.0, so.bounds, so.levels);
+  ASSERT_TRUE(pt.bounds.IsUsable());
+  ASSERT_EQ(pt.bounds.levels.size(), 2u);
+  EXPECT_EQ(pt.bounds.min.amplitude, direct.min.amplitude);
+  EXPECT_EQ(pt.bounds.max.amplitude, direct.max.amplitude);
+  // The finest level contains the coarse one (one α for every contact).
+  EXPECT_LE(pt.bounds.min.amplitude, pt.bounds.levels[0].min.amplitude * (1 + 1e-12));
+  EXPECT_GE(pt.bounds.max.amplitude, pt.bounds.levels[0].max.amplitude * (1 - 1e-12));
+  so.levels.levels[0].map = Eigen::MatrixXd::Ones(n + 1, 1);
+  EXPECT_THROW(SweepRobustness(Factory("gamma"), {0.15}, so), std::invalid_argument);
+}
+
 // Paper §4.2.2: R(β) = 1 on a middle interval, lower on both sides; the NOA lands inside it.
 TEST(Design, NoaFindsTheRobustIntervalOfTheAngleAsymmetry) {
   NoaOptions no;
