@@ -1,12 +1,10 @@
-// `fricrom verify`: the bounds at one frequency against independent routes — fixed-α solves at
-// sampled α and time integrations from several static states, each refined by Newton into a
-// harmonic-balance solution. A solution found beyond the bounds proves them local: the bound
-// optimisation restarts from it (ImproveBounds) and everything is judged against the result.
+// `fricrom verify`: the library's certification (certification.h) with its units of work — the
+// bound run, the α samples, the time integrations — on threads or MPI ranks, its certificate
+// written as JSON and text.
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,13 +16,10 @@
 #include "app/progress_line.h"
 #include "app/result_files.h"
 #include "app/unit_runs.h"
-#include "fricrom/alpha_levels.h"
 #include "fricrom/balance_pool.h"
 #include "fricrom/bound_search.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
-#include "fricrom/frf.h"
-#include "fricrom/solve.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"
 #include "io/atomic_file.h"
@@ -37,193 +32,132 @@ using json = nlohmann::json;
 
 namespace {
 
-// Relative tolerance of "inside" for fixed-α solutions (solver tolerances are ~1e-10).
-constexpr double kInsideTolerance = 1e-6;
-// Harmonic truncation (H) separates a time-domain amplitude from the HBM's by up to ~1e-3 off
-// resonance: the time integration's own amplitude is judged with this margin.
-constexpr double kTimeDomainMargin = 0.02;
+json RegimesJson(const std::vector<ContactRegime>& r) { return RegimeNames(r); }
 
-// The harmonic-balance solution a time integration ended at: Newton from its last period's
-// harmonics at its equivalent α (T/μN per contact at the start of that period). Where it
-// converges, the time-domain state is a member of the HBM's α-family, and an amplitude beyond the
-// bounds proves them local; null where it does not converge or α is grouped (no α per contact).
-// "x" (the solution) is for the improvement stage and is removed before output.
-// A run that has not settled and whose state refines into a solution is integrated on from that
-// solution's own state (IntegrateFromPeriodicState): where the solution holds (steady, at its
-// own amplitude within the truncation margin) and the run lies within that margin of it, the run
-// has settled on it. Reported as "continued".
-json ContinueFromSolution(const Model& model, const HarmonicBalance& system,
-                          const Eigen::VectorXd& x, double freq_hz, const Eigen::VectorXd& alpha,
-                          TimeIntegrationOptions to, double run_amplitude) {
-  const double y = system.Amplitude(x);
-  to.freq_hz = freq_hz;
-  to.min_periods = 1;
-  to.max_periods = 3 * to.window_periods;
-  const TimeIntegrationResult c = IntegrateFromPeriodicState(
-      model, PeriodicStartOf(model, system, x, RadPerS(freq_hz), alpha), to);
-  const auto near = [&](double v) { return std::abs(v - y) <= kTimeDomainMargin * y; };
-  const bool holds = c.IsSteady() && near(c.amplitude);
-  return {{"status", ToString(c.status)}, {"amplitude", Num(c.amplitude)},
-          {"periods", c.periods},         {"relative_change", Num(c.relative_change)},
-          {"solution_holds", holds},      {"run_settled_on_it", holds && near(run_amplitude)}};
-}
-
-json HbmFromTimeState(BalancePool& pool, const Model& model, const TimeIntegrationResult& r,
-                      double freq_hz, const TimeIntegrationOptions& to) {
-  if (!std::isfinite(r.amplitude) || !model.alpha_group.empty() ||
-      r.last_period_displacements.cols() == 0) {
-    return nullptr;
-  }
-  const BalancePool::Lease lease = pool.Borrow();
-  const HarmonicBalance& system = lease.get();
-  Eigen::VectorXd x = system.FromDofCoefficients(LastPeriodCoefficients(r, system.harmonics()));
-  const NewtonSummary s = SolveNewton(HbmAtFrequency(system, RadPerS(freq_hz), r.equivalent_alpha),
-                                      NewtonOptions{}, &x);
-  json j{{"converged", s.IsSolutionUsable()},
-         {"amplitude", Num(s.IsSolutionUsable() ? system.Amplitude(x) : NAN)},
-         {"iterations", s.iterations}};
-  if (s.IsSolutionUsable()) {
-    j["x"] = ToStd(x);
-    if (!r.IsSteady()) {
-      j["continued"] =
-          ContinueFromSolution(model, system, x, freq_hz, r.equivalent_alpha, to, r.amplitude);
+// A time run as a unit's text (with the refined solution's x, for the judgement on rank 0) and
+// back: the units travel between ranks as text.
+json TimeRunJson(const TimeRunEvidence& e, bool with_x) {
+  json refined = nullptr;
+  if (e.refinable) {
+    const RefinedState& s = e.refined;
+    refined = {
+        {"converged", s.converged}, {"amplitude", Num(s.amplitude)}, {"iterations", s.iterations}};
+    if (with_x && s.converged) refined["x"] = ToStd(s.x);
+    if (s.continued) {
+      refined["continued"] = {{"status", s.continued_status},
+                              {"amplitude", Num(s.continued_amplitude)},
+                              {"periods", s.continued_periods},
+                              {"relative_change", Num(s.continued_relative_change)},
+                              {"solution_holds", s.solution_holds},
+                              {"run_settled_on_it", s.run_settled_on_it}};
     }
   }
+  return {{"status", ToString(e.status)},
+          {"hbm_from_state", refined},
+          {"message", e.message},
+          {"amplitude", Num(e.amplitude)},
+          {"periods", e.periods},
+          {"scheme", e.scheme},
+          {"modes_integrated", e.modes_integrated},
+          {"relative_change", Num(e.relative_change)},
+          {"free_vibration", Num(e.free_vibration)},
+          // T/μN at the start of the last period, per contact: the α of the HBM member this
+          // steady state is (e.g. a --seeds entry of `bounds` when α is per contact).
+          {"equivalent_alpha", ToStd(e.equivalent_alpha)},
+          {"initial_alpha", ToStd(e.initial_alpha)},
+          {"wall_s", e.wall_s},
+          {"states", RegimesJson(e.regimes)}};
+}
+
+double NumOr(const json& v) { return v.is_null() ? NAN : v.get<double>(); }
+Eigen::VectorXd Vec(const json& v) {
+  const std::vector<double> a = v.get<std::vector<double>>();
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), std::ssize(a));
+}
+
+TimeRunEvidence TimeRunFromJson(const json& j) {
+  TimeRunEvidence e;
+  for (auto st :
+       {TimeIntegrationResult::Status::kSteadyState, TimeIntegrationResult::Status::kNotSettled,
+        TimeIntegrationResult::Status::kUnstable, TimeIntegrationResult::Status::kStaticFailed,
+        TimeIntegrationResult::Status::kContactFailed}) {
+    if (j.at("status") == ToString(st)) e.status = st;
+  }
+  e.message = j.at("message");
+  e.scheme = j.at("scheme");
+  e.amplitude = NumOr(j.at("amplitude"));
+  e.periods = j.at("periods");
+  e.modes_integrated = j.at("modes_integrated");
+  e.relative_change = NumOr(j.at("relative_change"));
+  e.free_vibration = NumOr(j.at("free_vibration"));
+  e.equivalent_alpha = Vec(j.at("equivalent_alpha"));
+  e.initial_alpha = Vec(j.at("initial_alpha"));
+  e.wall_s = j.at("wall_s");
+  const json& h = j.at("hbm_from_state");
+  e.refinable = h.is_object();
+  if (e.refinable) {
+    RefinedState& s = e.refined;
+    s.converged = h.at("converged");
+    s.amplitude = NumOr(h.at("amplitude"));
+    s.iterations = h.at("iterations");
+    if (h.contains("x")) s.x = Vec(h.at("x"));
+    if (h.contains("continued")) {
+      const json& c = h.at("continued");
+      s.continued = true;
+      s.continued_status = c.at("status");
+      s.continued_amplitude = NumOr(c.at("amplitude"));
+      s.continued_periods = c.at("periods");
+      s.continued_relative_change = NumOr(c.at("relative_change"));
+      s.solution_holds = c.at("solution_holds");
+      s.run_settled_on_it = c.at("run_settled_on_it");
+    }
+  }
+  return e;
+}
+
+// The certificate as the JSON of `verify` (without the solutions' x).
+json CertificateJson(const Certificate& c, const std::vector<json>& run_states) {
+  json j;
+  j["freq_hz"] = c.freq_hz;
+  j["y_min"] = Num(c.bounds.min.amplitude);
+  j["y_max"] = Num(c.bounds.max.amplitude);
+  j["bounds_improved"] = {{"restarts", c.restarts},
+                          {"bounds_moved", c.bounds_moved},
+                          {"y_min_optimised", Num(c.y_min_optimised)},
+                          {"y_max_optimised", Num(c.y_max_optimised)}};
+  j["bounds_beaten"] = {{"count", c.bounds_moved},
+                        {"y_min_relative_excess", c.y_min_relative_excess},
+                        {"y_max_relative_excess", c.y_max_relative_excess}};
+  const auto tally = [](const SampleTally& t) {
+    return json{{"samples", t.samples},
+                {"converged", t.samples - t.failed},
+                {"failed", t.failed},
+                {"failed_share", t.samples > 0 ? static_cast<double>(t.failed) / t.samples : 0.0},
+                {"inside", t.inside},
+                {"outside", t.outside},
+                {"sampled_min", Num(t.min)},
+                {"sampled_max", Num(t.max)}};
+  };
+  j["sampling"] = tally(c.sampling);
+  j["sampling"]["structured"] = tally(c.structured);
+  j["sampling"]["uniform"] = tally(c.uniform);
+  json runs = json::array();
+  for (size_t i = 0; i < c.time_runs.size(); ++i) {
+    const TimeRunEvidence& r = c.time_runs[i];
+    json rj = TimeRunJson(r, false);
+    rj["states"] = run_states[i];
+    rj["inside"] = r.inside;
+    rj["steady"] = r.steady;
+    rj["hbm_beyond_bounds"] = r.beyond;
+    runs.push_back(rj);
+  }
+  j["time_integration"] = runs;
+  j["time_integration_outside"] = c.time_outside;
+  j["time_integration_unsteady"] = c.time_unsteady;
+  j["time_integration_hbm_beyond"] = c.time_beyond;
+  j["certified"] = c.certified;
+  j["not_certified_because"] = c.gaps;
   return j;
-}
-
-bool Outside(double y, double lo, double hi) {
-  return y < lo * (1 - kInsideTolerance) || y > hi * (1 + kInsideTolerance);
-}
-
-struct SampleTally {
-  int failed = 0, inside = 0, outside = 0;
-  double min = NAN, max = NAN;
-};
-
-// y: one amplitude per sample, NaN where the solve failed.
-SampleTally TallySamples(const std::vector<double>& y, double lo, double hi) {
-  SampleTally t;
-  for (double v : y) {
-    if (std::isnan(v)) {
-      ++t.failed;
-      continue;
-    }
-    t.min = std::isnan(t.min) ? v : std::min(t.min, v);
-    t.max = std::isnan(t.max) ? v : std::max(t.max, v);
-    ++(Outside(v, lo, hi) ? t.outside : t.inside);
-  }
-  return t;
-}
-
-struct RunTally {
-  int outside = 0, unsteady = 0, beyond = 0;
-};
-
-double RefinedAmplitude(const json& run) {
-  const json& h = run["hbm_from_state"];
-  return h.is_object() && h["converged"].get<bool>() ? h["amplitude"].get<double>() : NAN;
-}
-
-// Marks each run inside (its time-domain amplitude, with the truncation margin) and
-// hbm_beyond_bounds (its refined HBM solution, to the solver tolerance).
-RunTally JudgeRuns(json* runs, double lo, double hi) {
-  RunTally t;
-  for (json& r : *runs) {
-    const double y = r["amplitude"].is_null() ? NAN : r["amplitude"].get<double>();
-    const bool in = y >= lo * (1 - kTimeDomainMargin) && y <= hi * (1 + kTimeDomainMargin);
-    // Steady: settled by itself, or next to a solution that holds under time integration.
-    const json& h = r["hbm_from_state"];
-    const bool settled_on_solution =
-        h.is_object() && h.contains("continued") && h["continued"]["run_settled_on_it"].get<bool>();
-    const bool steady =
-        r["status"] == ToString(TimeIntegrationResult::Status::kSteadyState) || settled_on_solution;
-    t.outside += steady && !in;
-    t.unsteady += !steady;
-    r["inside"] = in;
-    const double refined = RefinedAmplitude(r);
-    const bool beyond = std::isfinite(refined) && Outside(refined, lo, hi);
-    r["hbm_beyond_bounds"] = beyond;
-    t.beyond += beyond;
-  }
-  return t;
-}
-
-// The solutions beyond [lo, hi]: samples (solved again, the same deterministic solve as their
-// unit) and the time integrations' refined states. Removes the runs' "x" entries.
-std::vector<KnownSolution> SolutionsBeyond(const HarmonicBalance& system, double freq_hz,
-                                           const std::vector<Eigen::VectorXd>& alphas,
-                                           const std::vector<double>& y, json* runs, double lo,
-                                           double hi) {
-  std::vector<KnownSolution> known;
-  for (size_t i = 0; i < y.size(); ++i) {
-    if (std::isnan(y[i]) || !Outside(y[i], lo, hi)) continue;
-    const FrfPoint p =
-        SolveAtFrequency(system, alphas[i], freq_hz, Eigen::VectorXd(), FrfOptions{});
-    if (p.status == SolverStatus::kConverged) known.push_back({p.x, alphas[i]});
-  }
-  for (json& r : *runs) {
-    json& h = r["hbm_from_state"];
-    if (!h.is_object() || !h.contains("x")) continue;
-    const double refined = RefinedAmplitude(r);
-    if (Outside(refined, lo, hi)) {
-      const std::vector<double> x = h["x"].get<std::vector<double>>();
-      const std::vector<double> a = r["equivalent_alpha"].get<std::vector<double>>();
-      known.push_back({Eigen::Map<const Eigen::VectorXd>(x.data(), std::ssize(x)),
-                       Eigen::Map<const Eigen::VectorXd>(a.data(), std::ssize(a))});
-    }
-    h.erase("x");
-  }
-  return known;
-}
-
-// Every α is drawn before anything is solved, so that unit k is the same computation on any
-// number of threads or ranks: a) sampling, the corners of the box first, then uniform random
-// (fixed seed); b) time integrations from α = 0, the two alternating corners, then random.
-struct VerifyAlphas {
-  std::vector<Eigen::VectorXd> samples, time_runs;
-};
-
-VerifyAlphas DrawAlphas(int nc, int samples, int ti_runs) {
-  std::mt19937 rng(20241);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  VerifyAlphas a{std::vector<Eigen::VectorXd>(samples, Eigen::VectorXd(nc)),
-                 std::vector<Eigen::VectorXd>(ti_runs, Eigen::VectorXd(nc))};
-  for (int i = 0; i < samples; ++i) {
-    for (int k = 0; k < nc; ++k) {
-      a.samples[i][k] = (nc < 20 && i < (1 << nc)) ? (((i >> k) & 1) ? 1.0 : -1.0) : u(rng);
-    }
-  }
-  for (int i = 0; i < ti_runs; ++i) {
-    for (int k = 0; k < nc; ++k)
-      a.time_runs[i][k] =
-          i == 0 ? 0.0 : (i <= 2 ? ((k % 2 == 0) == (i == 1) ? 1.0 : -1.0) : u(rng));
-  }
-  return a;
-}
-
-// One time integration to the steady state from the static state of `alpha`, as a JSON row.
-std::string TimeIntegrationUnit(const Case& c, BalancePool& pool, const Eigen::VectorXd& alpha,
-                                double freq, TimeIntegrationOptions to) {
-  const auto t_run = std::chrono::steady_clock::now();
-  to.freq_hz = freq;
-  to.min_periods = std::min(to.min_periods, to.max_periods);
-  const TimeIntegrationResult r = IntegrateToSteadyState(c.model, alpha, to);
-  return json{{"status", ToString(r.status)},
-              {"hbm_from_state", HbmFromTimeState(pool, c.model, r, freq, to)},
-              {"message", r.message},
-              {"amplitude", Num(r.amplitude)},
-              {"periods", r.periods},
-              {"scheme", r.scheme},
-              {"modes_integrated", r.modes_integrated},
-              {"relative_change", Num(r.relative_change)},
-              {"free_vibration", Num(r.free_vibration)},
-              // T/μN at the start of the last period, per contact: the α of the HBM member
-              // this steady state is (e.g. a --seeds entry of `bounds` when α is per contact).
-              {"equivalent_alpha", ToStd(r.equivalent_alpha)},
-              {"wall_s", Seconds(t_run)},
-              {"states", RegimeNames(r.regimes)}}
-      .dump();
 }
 
 // The certificate `j` as text on stdout.
@@ -274,35 +208,29 @@ int DesignCommands::State::RunVerify() {
   const Case c = verify_case.Load();
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
-  const int nc = system.num_alpha();
   const BoundsOptions bo = MakeBoundsOptions(c);
   const LevelSearchOptions levels = MakeLevelOptions(c);
-  const VerifyAlphas drawn = DrawAlphas(nc, samples, ti_runs);
-  // Structured α first (the levels' corners and face tilts, which uniform samples of a large box
-  // never come near), then the uniform samples.
-  std::vector<Eigen::VectorXd> alphas = StructuredAlphaPatterns(levels.levels);
-  const int structured = static_cast<int>(alphas.size());
-  alphas.insert(alphas.end(), drawn.samples.begin(), drawn.samples.end());
-  const int all_samples = static_cast<int>(alphas.size());
-  const std::vector<Eigen::VectorXd>& ti_alphas = drawn.time_runs;
+  CertifyOptions co;
+  co.samples = samples;
+  co.time_runs = ti_runs;
+  co.time = time_options;
+  const CertificationPlan plan = PlanCertification(system.num_alpha(), levels.levels, co);
+  const int all_samples = static_cast<int>(plan.samples.size());
   // Units: 0 the bounds, then the α samples, then the time integrations (threads or MPI ranks).
   BalancePool pool(system, [&] { return MakeCaseBalance(c); });
   const auto unit = [&](int k) -> std::string {
-    if (k == 0) {
-      return BoundsRecord(ComputeLevelBounds(pool.Borrow().get(), freq, bo, levels)).dump();
-    }
+    const BalancePool::Lease lease = pool.Borrow();
+    if (k == 0) return BoundsRecord(ComputeLevelBounds(lease.get(), freq, bo, levels)).dump();
     if (k <= all_samples) {
-      const BalancePool::Lease lease = pool.Borrow();
-      const FrfPoint p =
-          SolveAtFrequency(lease.get(), alphas[k - 1], freq, Eigen::VectorXd(), FrfOptions{});
-      return Num(p.status == SolverStatus::kConverged ? p.amplitude : NAN).dump();
+      return Num(SolveSampleAmplitude(lease.get(), plan.samples[k - 1], freq)).dump();
     }
-    return TimeIntegrationUnit(c, pool, ti_alphas[k - 1 - all_samples], freq, time_options);
+    const Eigen::VectorXd& a = plan.time_runs[k - 1 - all_samples];
+    return TimeRunJson(RunTimeEvidence(c.model, lease.get(), a, freq, co.time), true).dump();
   };
   Progress progress{ShowProgress(), "verify"};
   // Ipopt (through MUMPS) is not known to be safe on concurrent threads: one thread for it.
   const std::vector<std::string> texts =
-      RunTextUnits(1 + all_samples + ti_runs,
+      RunTextUnits(1 + all_samples + co.time_runs,
                    bo.method == BoundsOptions::kReducedSpace ? threads : 1, unit, progress);
   progress.Done();
   if (MpiRank() != 0) return 0;
@@ -312,74 +240,21 @@ int DesignCommands::State::RunVerify() {
     return 1;
   }
   std::vector<double> y(all_samples);
-  for (int i = 0; i < all_samples; ++i) {
-    const json v = json::parse(texts[1 + i]);
-    y[i] = v.is_null() ? NAN : v.get<double>();
+  for (int i = 0; i < all_samples; ++i) y[i] = NumOr(json::parse(texts[1 + i]));
+  std::vector<TimeRunEvidence> runs;
+  std::vector<json> states;
+  for (int i = 0; i < co.time_runs; ++i) {
+    const json r = json::parse(texts[1 + all_samples + i]);
+    runs.push_back(TimeRunFromJson(r));
+    states.push_back(r.at("states"));
   }
-  json runs = json::array();
-  for (int i = 0; i < ti_runs; ++i) {
-    json r = json::parse(texts[1 + all_samples + i]);
-    r["initial_alpha"] = ToStd(ti_alphas[i]);
-    runs.push_back(r);
+  const Certificate cert =
+      JudgeCertification(system, freq, bo, plan, std::move(b), y, std::move(runs));
+  if (ShowProgress() && cert.restarts > 0) {
+    std::cerr << "verify: " << cert.restarts
+              << " solution(s) beyond the bounds restarted the bound optimisation\n";
   }
-  // A solution beyond the bounds: the optimisation restarts from it (its x keeps the branch of
-  // periodic solutions it was found on), and the evidence is judged against the result.
-  const double lo0 = b.min.amplitude, hi0 = b.max.amplitude;
-  const std::vector<KnownSolution> beyond =
-      SolutionsBeyond(system, freq, alphas, y, &runs, lo0, hi0);
-  int moved = 0;
-  if (!beyond.empty()) {
-    if (ShowProgress()) {
-      std::cerr << "verify: " << beyond.size()
-                << " solution(s) beyond the bounds: restarting the bound optimisation from them\n";
-    }
-    moved = ImproveBounds(system, freq, bo, beyond, &b);
-  }
-  const double lo = b.min.amplitude, hi = b.max.amplitude;
-  const SampleTally st = TallySamples(y, lo, hi);
-  const SampleTally st_structured =
-      TallySamples(std::vector<double>(y.begin(), y.begin() + structured), lo, hi);
-  const SampleTally st_uniform =
-      TallySamples(std::vector<double>(y.begin() + structured, y.end()), lo, hi);
-  // How far the bound run's own bounds were beaten (relative), by samples or time states.
-  const double excess_min = std::isfinite(lo0) && lo < lo0 ? (lo0 - lo) / lo0 : 0.0;
-  const double excess_max = std::isfinite(hi0) && hi > hi0 ? (hi - hi0) / hi0 : 0.0;
-  const RunTally rt = JudgeRuns(&runs, lo, hi);
-  CertificationEvidence evidence{all_samples, st.failed,  st.outside, ti_runs,
-                                 rt.unsteady, rt.outside, rt.beyond};
-  evidence.bounds_beaten = moved;
-  const std::vector<std::string> reasons = CertificationGaps(evidence);
-  const bool certified = reasons.empty();
-  json j;
-  j["freq_hz"] = freq;
-  j["y_min"] = Num(lo);
-  j["y_max"] = Num(hi);
-  j["bounds_improved"] = {{"restarts", beyond.size()},
-                          {"bounds_moved", moved},
-                          {"y_min_optimised", Num(lo0)},
-                          {"y_max_optimised", Num(hi0)}};
-  j["bounds_beaten"] = {{"count", moved},
-                        {"y_min_relative_excess", excess_min},
-                        {"y_max_relative_excess", excess_max}};
-  const auto tally = [](const SampleTally& t, int n) {
-    return json{{"samples", n},
-                {"converged", n - t.failed},
-                {"failed", t.failed},
-                {"failed_share", n > 0 ? static_cast<double>(t.failed) / n : 0.0},
-                {"inside", t.inside},
-                {"outside", t.outside},
-                {"sampled_min", Num(t.min)},
-                {"sampled_max", Num(t.max)}};
-  };
-  j["sampling"] = tally(st, all_samples);
-  j["sampling"]["structured"] = tally(st_structured, structured);
-  j["sampling"]["uniform"] = tally(st_uniform, all_samples - structured);
-  j["time_integration"] = runs;
-  j["time_integration_outside"] = rt.outside;
-  j["time_integration_unsteady"] = rt.unsteady;
-  j["time_integration_hbm_beyond"] = rt.beyond;
-  j["certified"] = certified;
-  j["not_certified_because"] = reasons;
+  json j = CertificateJson(cert, states);
   j["wall_s"] = Seconds(t0);
   // The certificate is kept beside the other results (--out), not only on stdout.
   const std::filesystem::path file = OutDir(c, "verify") / "verify.json";
@@ -389,7 +264,7 @@ int DesignCommands::State::RunVerify() {
   } else if (!quiet) {
     PrintCertification(j, file);
   }
-  return certified ? 0 : 1;
+  return cert.certified ? 0 : 1;
 }
 
 }  // namespace fricrom::app

@@ -87,6 +87,23 @@ inline bool LiesBeyond(const BoundSolution& a, const BoundSolution& b,
   return (maximise_response ? va - vb : vb - va) > margin * std::abs(vb);
 }
 
+// Adds the run counts of `from` (seeds, failures, runs) to `into`, and with `checks` also its
+// sample check's and refinement's counts.
+inline void AddSearchCounts(const BoundsResult& from, bool checks, BoundsResult* into) {
+  into->seeds_tried += from.seeds_tried;
+  into->seeds_converged += from.seeds_converged;
+  into->start_failures += from.start_failures;
+  into->min_failures += from.min_failures;
+  into->max_failures += from.max_failures;
+  into->optimizer_runs += from.optimizer_runs;
+  into->runs_abandoned += from.runs_abandoned;
+  if (!checks) return;
+  into->samples_checked += from.samples_checked;
+  into->samples_failed += from.samples_failed;
+  into->improved_by_samples += from.improved_by_samples;
+  into->refinement_fallbacks += from.refinement_fallbacks;
+}
+
 // Fills the derived fields of a solution (x, α set).
 void Describe(const HarmonicBalance& sys, double omega, BoundSolution* s);
 

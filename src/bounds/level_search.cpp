@@ -67,20 +67,6 @@ int Fold(const BoundSolution& cand, BoundsOptions::Objective objective, BoundsRe
   return moved;
 }
 
-void AddCounts(const BoundsResult& from, BoundsResult* into) {
-  into->seeds_tried += from.seeds_tried;
-  into->seeds_converged += from.seeds_converged;
-  into->start_failures += from.start_failures;
-  into->min_failures += from.min_failures;
-  into->max_failures += from.max_failures;
-  into->optimizer_runs += from.optimizer_runs;
-  into->runs_abandoned += from.runs_abandoned;
-  into->samples_checked += from.samples_checked;
-  into->samples_failed += from.samples_failed;
-  into->improved_by_samples += from.improved_by_samples;
-  into->refinement_fallbacks += from.refinement_fallbacks;
-}
-
 struct Starts {
   std::vector<Eigen::VectorXd> alpha, x;
   std::vector<int> directions;  // 1 minimum, 2 maximum, 3 both
@@ -98,6 +84,16 @@ struct Starts {
   }
 };
 
+// The corners' routes, measured on the coarse cascade at 1098, 1100 and 1102 Hz (one thread):
+// the cold corners by the α homotopy alone, at most kColdCornerPoints points (with the frequency
+// continuations of a cold start too, 2000 points each, they took 197 s at 1102 Hz; without them
+// 36 s, the same bounds at all three frequencies); the walk's failed Newton steps by a residual
+// homotopy of at most kCornerHomotopyPoints points (40: 56 failures cost 77 s of 101 s at
+// 1100 Hz; 15: the same bounds; none: y_min 1.7e-4 m instead of 3.9e-5 m at 1100 Hz). Bound
+// runs at 1100/1102 Hz: 128 s/381 s before, 98 s/224 s after.
+constexpr int kColdCornerPoints = 300;
+constexpr int kCornerHomotopyPoints = 15;
+
 // The coarsest level's corner starts: corners over the k most influential parameters (the rest
 // 0), solved in Gray-code order each from the last, ranked by the response.
 void CornerStarts(const HarmonicBalance& view, double freq_hz, const LevelSearchOptions& ls,
@@ -107,15 +103,13 @@ void CornerStarts(const HarmonicBalance& view, double freq_hz, const LevelSearch
   while (k < n && (2 << k) <= ls.max_corners) ++k;
   if (k == 0) return;
   const double omega = RadPerS(freq_hz);
-  // Newton from the last corner, then the residual homotopy from it (a few dozen points); not the
-  // α homotopy and frequency continuations of a cold start (at 1100 Hz those made the 257
-  // corners 463 s): a corner neither reaches is skipped, and counted.
+  // The influence solves and the walk: Newton from a nearby corner's solution, then the residual
+  // homotopy from it; not the routes of a cold start.
   FrfOptions quick;
   quick.use_fallbacks = false;
   FrfOptions homotopy;
-  homotopy.fallback_max_points = 40;
-  auto solve = [&](const Eigen::VectorXd& c, const Eigen::VectorXd& from, FrfPoint* p,
-                   bool count = true) {
+  homotopy.fallback_max_points = kCornerHomotopyPoints;
+  auto solve = [&](const Eigen::VectorXd& c, const Eigen::VectorXd& from, FrfPoint* p) {
     *p = SolveAtFrequency(view, c, freq_hz, from, from.size() > 0 ? quick : FrfOptions{});
     if (p->status != SolverStatus::kConverged && from.size() > 0) {
       int evaluations = 0;
@@ -127,7 +121,7 @@ void CornerStarts(const HarmonicBalance& view, double freq_hz, const LevelSearch
       }
     }
     const bool ok = p->status == SolverStatus::kConverged;
-    if (count) ++(ok ? record->corners_solved : record->corners_failed);
+    ++(ok ? record->corners_solved : record->corners_failed);
     return ok;
   };
   FrfPoint zero;
@@ -158,26 +152,30 @@ void CornerStarts(const HarmonicBalance& view, double freq_hz, const LevelSearch
                             : -view.Energies(p.x, omega, c).loss_factor();
     corners.push_back({c, p.x, rank});
   };
-  // The corners over the (up to) 4 most influential parameters, the rest 0, each solved by the
-  // cold routes of a fixed-α solve (`frf --freq`: the α homotopy, continuations in frequency):
-  // next to the resonance they reach the branches the minimum lies on (1100 Hz: the corner
-  // t1 = (−1, −1, +1, +1) at 6.2e-5 m where Newton from its neighbours stays at 1.7e-4 m).
+  // The corners over the (up to) 4 most influential parameters, the rest 0, each solved cold
+  // (Newton from the stick solution, then the α homotopy from α = 0): next to the resonance they
+  // reach the branches the minimum lies on (1100 Hz: without them y_min is 2.9e-4 m, not
+  // 3.9e-5 m).
   const int k_cold = std::min(k, 4);
+  FrfOptions cold;
+  cold.fallback_max_points = kColdCornerPoints;
+  cold.frequency_fallbacks = 0;
   for (int m = 0; m < (1 << k_cold); ++m) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
     for (int j = 0; j < k_cold; ++j) c[chosen[j]] = (m >> j) & 1 ? 1.0 : -1.0;
-    const FrfPoint p = SolveAtFrequency(view, c, freq_hz, Eigen::VectorXd(), FrfOptions{});
+    const FrfPoint p = SolveAtFrequency(view, c, freq_hz, Eigen::VectorXd(), cold);
     ++(p.status == SolverStatus::kConverged ? record->corners_solved : record->corners_failed);
     if (p.status == SolverStatus::kConverged) add(c, p);
   }
-  // Every corner (up to max_corners), cheaply: Newton and the residual homotopy from the last.
+  // Every corner (up to max_corners), cheaply: Newton and the residual homotopy from the last
+  // (its Gray-code neighbour). Without the homotopy, at 1100 Hz the minimum's branch
+  // (y_min 3.9e-5 m against 1.7e-4 m) was not reached. A corner neither reaches is skipped, and
+  // counted.
   Eigen::VectorXd last = zero.x;
   for (int m = 0; m < (1 << k); ++m) {
     const int gray = m ^ (m >> 1);
     Eigen::VectorXd c = Eigen::VectorXd::Zero(n);
     for (int j = 0; j < k; ++j) c[chosen[j]] = (gray >> j) & 1 ? 1.0 : -1.0;
-    // From the last corner (its branch); Newton from the full-stick start as well found nothing
-    // new at 1100 Hz and cost 20 s there.
     FrfPoint p;
     if (!solve(c, last, &p)) continue;
     last = p.x;
@@ -373,7 +371,7 @@ BoundsResult SearchLevels(const HarmonicBalance& system, double freq_hz,
                                     l == 0 ? nullptr : &coarser, &record);
     Record(r, &record);
     record.wall_s = Since(tl);
-    AddCounts(r, &result);
+    bounds_detail::AddSearchCounts(r, true, &result);
     result.levels.push_back(record);
     coarser = std::move(r);
   }
@@ -450,7 +448,7 @@ BoundsResult RefineLevelsAtHarmonics(const HarmonicBalance& system, const Bounds
     record.optimizer_runs += r.optimizer_runs;
     record.refine_s = Since(tl);
     record.wall_s += record.refine_s;
-    AddCounts(r, &counts);
+    bounds_detail::AddSearchCounts(r, true, &counts);
     records.push_back(record);
     if (options.progress) options.progress("harmonic refinement", l + 1, nl);
     coarser = std::move(r);

@@ -126,17 +126,6 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
   return c;
 }
 
-// The optimiser counts of `from` added to `into` (a restart's, or the ladder's H = 1 search).
-void AddRunCounts(const BoundsResult& from, BoundsResult* into) {
-  into->seeds_tried += from.seeds_tried;
-  into->seeds_converged += from.seeds_converged;
-  into->start_failures += from.start_failures;
-  into->min_failures += from.min_failures;
-  into->max_failures += from.max_failures;
-  into->optimizer_runs += from.optimizer_runs;
-  into->runs_abandoned += from.runs_abandoned;
-}
-
 }  // namespace
 
 BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
@@ -154,7 +143,7 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
   if (c.have_low) restart.push_back(c.alpha_low);
   if (c.have_high) restart.push_back(c.alpha_high);
   const BoundsResult again = OptimiseBounds(system, freq_hz, options, restart);
-  AddRunCounts(again, &result);
+  bounds_detail::AddSearchCounts(again, false, &result);
   // Each bound: the best of the first optimisation, the restart and the sample itself.
   auto improve = [&](bool is_max, bool have_sample, const FrfPoint& sample,
                      const Eigen::VectorXd& alpha, BoundSolution restarted) {
@@ -271,7 +260,7 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   if (options.progress) options.progress("harmonic refinement", 0, 1);
   ImproveBounds(system, low.freq_hz, at_h, known, &result);
   // The search's own counts (at H = 1) and the refinement's runs.
-  AddRunCounts(low, &result);
+  bounds_detail::AddSearchCounts(low, false, &result);
   result.seed_counts = low.seed_counts;
   result.samples_checked = low.samples_checked;
   result.samples_failed = low.samples_failed;
