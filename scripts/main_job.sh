@@ -103,6 +103,9 @@ declare -A T
 echo; echo "== FE cascade: modes, bound curve ${FE_RANGE[*]} Hz, R(gamma) and NOA at $FE_REF Hz, lumped calibration =="
 step fe_modes json "$FE_OUT/fe_modes.json" $FR modes "$FE_CASE"
 step fe_bounds json "$FE_OUT/fe_bounds.json" $FR bounds "$FE_CASE" "${FE_RANGE[@]}" --plot --out "$FE_OUT/fe_bounds"
+# The bounds at the family's resonance, level by level (interface, face shapes, pair).
+step fe_peak json "$FE_OUT/fe_peak.json" $FR bounds "$FE_CASE" --freq 1100 --search quick --threads 1 \
+  --out "$FE_OUT/fe_peak"
 step fe_verify json "$FE_OUT/fe_verify.json" $FR verify "$FE_CASE" --freq "$FE_REF" --alpha-samples 200 \
   --check-samples 200 --time-runs 3 --out "$FE_OUT/fe_verify"
 step fe_noa json "$FE_OUT/fe_noa.json" $FR noa "$FE_CASE" --param gamma --from 0 --to 0.3 --freq "$FE_REF" \

@@ -7,7 +7,8 @@ Usage:
 
 Reads from --dir: fe_modes.json, fe_bounds.json, lump.json, lumped_modes.json,
 lumped_bounds.json (outputs of `fricrom modes|bounds|lump --json`; the bounds are curves or single
-frequencies), fe_verify.json (`fricrom verify --json`, optional), fe_noa.json (`fricrom noa
+frequencies), fe_peak.json (`fricrom bounds --freq --json` at the resonance, optional),
+fe_verify.json (`fricrom verify --json`, optional), fe_noa.json (`fricrom noa
 --json`, optional), gamma_study/gamma_study.json
 (scripts/gamma_study.py, optional) and timings.json ({step: seconds}). Exit status 0, or 2 on a
 missing or malformed file.
@@ -80,6 +81,23 @@ def verify_section(d):
     return out
 
 
+def peak_section(d):
+    """The bound run at the cascade's resonance, level by level (fe_peak.json, optional)."""
+    if not os.path.exists(os.path.join(d, "fe_peak.json")):
+        return []
+    p = load(d, "fe_peak.json")
+    out = ["", f"## Bounds at the resonance ({p['freq_hz']:g} Hz), level by level", "",
+           "The bound run searches coarse to fine over the alpha levels (`docs/theory.md` 7a); each "
+           "finer level holds the coarser levels' optima, so its bounds contain theirs.", "",
+           "| level | alpha parameters | y_min [m] | y_max [m] | R | wall [s] |",
+           "|---|---|---|---|---|---|"]
+    for lv in p.get("levels", []):
+        out.append(f"| {lv['level']} | {lv['parameters']} | {num(lv['y_min'])} | {num(lv['y_max'])} | "
+                   f"{num(lv['R'], '{:.4f}')} | {lv['wall_s']:.1f} |")
+    out += ["", f"Status {p['status']}, {p['wall_s']:.1f} s (`--search quick`, one thread)."]
+    return out
+
+
 def design_section(d):
     """R over gamma (both models) and the FE NOA, when the main job ran them."""
     out = []
@@ -144,6 +162,7 @@ def main():
         "![contact-state map at the bounds](figures/contact_map.png)", "",
         "Step wall times [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in sorted(t.items())) + "."]
     out += curve_section(fb, lb)
+    out += peak_section(d)
     out += verify_section(d)
     out += design_section(d)
     tmp = args["--out"] + ".tmp"
