@@ -93,7 +93,8 @@ def evaluate(args, template, value, state):
     folder = design_dir(args, value)
     record_path = os.path.join(folder, "design.json")
     # What the design's result depends on besides its value: reused only if the same.
-    inputs = {"freq_hz": args.freq, "harmonics": args.harmonics,
+    inputs = {"freq_hz": args.freq, "harmonics": args.harmonics, "search": args.search,
+              "alpha_levels": args.alpha_levels,
               "case_sha256": hashlib.sha256(template.encode("utf-8")).hexdigest()}
     if os.path.exists(record_path):
         with open(record_path, encoding="utf-8") as f:
@@ -125,6 +126,7 @@ def evaluate(args, template, value, state):
                    "--out", os.path.join(folder, "bounds")]
             if args.harmonics is not None:
                 cmd += ["--harmonics", str(args.harmonics)]
+            cmd += ["--search", args.search, "--alpha-levels", args.alpha_levels]
             run = subprocess.run(cmd, capture_output=True, text=True)
             record["bounds_s"] = time.monotonic() - t1
             try:
@@ -225,6 +227,10 @@ def parse(argv):
     p.add_argument("--fricrom", default=os.path.join(ROOT, "build", "fricrom"))
     p.add_argument("--quiet", action="store_true", help="no progress on stderr")
     p.add_argument("--harmonics", type=int, default=None, help="harmonics H (default: the case's)")
+    p.add_argument("--search", default="default", choices=["quick", "default", "thorough"],
+                   help="the bound search preset of every design (fricrom bounds --search)")
+    p.add_argument("--alpha-levels", dest="alpha_levels", default="auto", choices=["auto", "pair"],
+                   help="alpha levels of the bound search (fricrom bounds --alpha-levels)")
     args = p.parse_args(argv)
     if not (math.isfinite(args.lo) and math.isfinite(args.hi) and args.lo < args.hi):
         p.error(f"--from {args.lo} --to {args.hi}: want finite values with from < to")
