@@ -57,6 +57,9 @@ DesignCommands::DesignCommands() : state_(std::make_unique<State>()) {}
 DesignCommands::~DesignCommands() = default;
 
 void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
+  // The optimiser's knobs, apart in the help: the --search presets set the search; these stay for
+  // studies of the search itself (docs/bounds-and-design.md says what each changes).
+  static const std::string kTuning = "Search tuning (expert; --search sets the search)";
   cmd->add_option("--seeds", seeds, "Alpha seeds of the bound optimisations: a,b,c,d;e,f,g,h");
   cmd->add_option("--objective", objective, "Bound objective: amplitude (default) or loss-factor")
       ->check(CLI::IsMember({"amplitude", "loss-factor"}));
@@ -66,51 +69,62 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
       ->check(CLI::IsMember({"reduced", "ipopt", "both"}));
   cmd->add_flag("--interface-seeds", interface_seeds,
                 "Add two alpha seeds per contact interface (+1 on it and -1 elsewhere, and the "
-                "opposite; per contact on lumped cases)");
+                "opposite; per contact on lumped cases)")
+      ->group(kTuning);
   cmd->add_option("--random-seeds", random_seeds,
                   "Add this many random alpha seeds, uniform in [-1, 1] (fixed generator seed)")
-      ->check(CLI::Range(0, 100000));
+      ->check(CLI::Range(0, 100000))
+      ->group(kTuning);
   cmd->add_option("--check-samples", check_samples,
                   "Random alpha solves that check (and improve) each bound; 0: no check")
-      ->check(CLI::Range(0, 1000000));
+      ->check(CLI::Range(0, 1000000))
+      ->group(kTuning);
   cmd->add_option("--line-search-memory", line_search_memory,
                   "Reduced-space runs: accept a step against the largest of the last N "
                   "objectives (nonmonotone; default 10); 1: monotone Armijo")
-      ->check(CLI::Range(1, 100));
+      ->check(CLI::Range(1, 100))
+      ->group(kTuning);
   cmd->add_option("--negligible-minimum", negligible_minimum,
                   "Minimum runs whose result starts nothing else (the harmonic ladder's "
                   "refinement, a curve's neighbour starts) stop once y_min falls to this "
                   "fraction of the point's y_max (R is then below it); 0: never (default 0.001)")
-      ->check(FractionBelowOne(true));
+      ->check(FractionBelowOne(true))
+      ->group(kTuning);
   cmd->add_option("--refinement-change", refinement_change,
                   "Harmonic ladder: a refinement run at H stops once its objective changes by at "
                   "most this relative amount in 3 iterations in a row (default 1e-5; the search's "
                   "runs: 1e-7)")
-      ->check(FractionBelowOne(false));
+      ->check(FractionBelowOne(false))
+      ->group(kTuning);
   cmd->add_option("--stall-change", stall_change,
                   "Reduced-space runs stop once their best objective improved by at most this "
                   "relative amount over the last --stall-window iterations (default 1e-4)")
-      ->check(FractionBelowOne(true));
+      ->check(FractionBelowOne(true))
+      ->group(kTuning);
   cmd->add_option("--stall-window", stall_window,
                   "Accepted iterations the stall test looks back over (default 20); 0: no stall "
                   "test (runs end at their other tests or the iteration limit)")
-      ->check(CLI::Range(0, 100000));
+      ->check(CLI::Range(0, 100000))
+      ->group(kTuning);
   cmd->add_option("--max-bfgs-memory", maximum_bfgs_memory,
                   "Maximum runs step along limited-memory BFGS directions built from the last N "
                   "accepted steps: another path to the local maxima, a second opinion on y_max "
                   "(e.g. 5); 0 (default): the projected gradient with Barzilai-Borwein steps, "
                   "which the minimum runs always take")
-      ->check(CLI::Range(0, 100));
+      ->check(CLI::Range(0, 100))
+      ->group(kTuning);
   cmd->add_option("--dominance", dominance,
                   "What a reduced-space run that cannot catch up is measured against before it "
                   "is stopped: starts (the seeds' KKT starts and the bounds a curve holds) or "
                   "runs (also the best bound of the earlier seeds' runs at the point)")
-      ->check(CLI::IsMember({"starts", "runs"}));
+      ->check(CLI::IsMember({"starts", "runs"}))
+      ->group(kTuning);
   cmd->add_option("--search-harmonics", search_harmonics,
                   "Bounds at H > 1: 1 searches at H = 1 (seeds, sample check) and refines each "
                   "optimum at H, 0 searches at H (default: the case's "
                   "analysis.search_harmonics)")
-      ->check(CLI::Range(0, 1));
+      ->check(CLI::Range(0, 1))
+      ->group(kTuning);
   cmd->add_option("--search", search,
                   "Bound search preset: quick (16 corners of the coarsest alpha level, 1 start "
                   "per direction), default (256, 2) or thorough (4096, 4; and at least 8 random "
