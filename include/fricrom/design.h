@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,14 +82,57 @@ struct BoundCurve {
   bool HasPeak() const { return peak >= 0; }
   std::string BriefReport() const;
 };
+// One stage of a bound curve: its name ("frequencies", "continuations", "sweeps", "neighbour
+// starts", "harmonic refinement"), the key of its unit 0 (unit u of the stage is key + u: a
+// journal's numbering, the same in every run of the curve), and whether a unit gives several
+// points (a sweep, a chain) or one.
+struct CurveStageSpec {
+  std::string name;
+  int key = 0;
+  bool many = false;
+};
+// Runs a curve's stages: ComputeBoundCurve says what each unit computes, the runner where and
+// when — threads (ThreadStageRunner), MPI ranks, a journal that skips the units an earlier run
+// finished. Run returns every unit's result (unit id -> points) to every caller; a runner over
+// MPI ranks is called on every rank alike, each calling ComputeBoundCurve.
+class CurveStageRunner {
+ public:
+  using Unit = std::function<std::vector<BoundsResult>(int unit)>;
+  virtual ~CurveStageRunner() = default;
+  virtual std::map<int, std::vector<BoundsResult>> Run(const CurveStageSpec& stage,
+                                                       const std::vector<int>& units,
+                                                       const Unit& unit) = 0;
+};
+// Units on `threads` threads of this process (0: every core), in the order given, with
+// progress(stage, done, total) after each.
+class ThreadStageRunner : public CurveStageRunner {
+ public:
+  ThreadStageRunner(int threads, std::function<void(const std::string&, int, int)> progress = {});
+  std::map<int, std::vector<BoundsResult>> Run(const CurveStageSpec& stage,
+                                               const std::vector<int>& units,
+                                               const Unit& unit) override;
+
+ private:
+  int threads_;
+  std::function<void(const std::string&, int, int)> progress_;
+};
+
 // `points` frequencies evenly spaced over [lo_hz, hi_hz] (both included; points >= 2).
 std::vector<double> EvenFrequencies(double lo_hz, double hi_hz, int points);
 // Throws std::invalid_argument on invalid options or a non-positive or non-finite frequency.
 // make_balance builds the balance of each extra thread (see balance_pool.h).
+// The stages run on options.threads threads (ThreadStageRunner with options.progress).
 BoundCurve ComputeBoundCurve(
     const HarmonicBalance& system, const std::vector<double>& freqs_hz,
     const BoundCurveOptions& options,
     const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance = {});
+// The same curve, its stages run by `runner` (the curve does not depend on how): pass 1 at the
+// anchors (keys 0 + i), the continuations between anchors (2n + c), pass 2 as two sweeps
+// (n, n + 1) or per point (n + i), the harmonic ladder's refinement (2n + chains + i).
+BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+                             const BoundCurveOptions& options,
+                             const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance,
+                             CurveStageRunner& runner);
 
 // The two passes one point at a time, for callers that hand the points out themselves (MPI
 // ranks, journals). Pass 2 of point i: pass1[i] merged (MergeBounds) with the bounds from the

@@ -25,9 +25,8 @@ namespace {
 
 // The JSON of `fricrom bounds`: the peak's bounds (or the single frequency's), with every point,
 // the units of work and the files of a curve.
-void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCurveOptions& co,
-                     const BoundCurve& curve, const CurveUnitsRun& run, double wall,
-                     const std::array<fs::path, 2>& files) {
+void PrintBoundsJson(const Case& c, const BoundCurveOptions& co, const BoundCurve& curve,
+                     const CurveUnitsRun& run, double wall, const std::array<fs::path, 2>& files) {
   const std::vector<BoundsResult>& results = curve.points;
   const bool have_peak = curve.HasPeak();
   const BoundsResult& at = results[have_peak ? curve.peak : 0];
@@ -39,13 +38,9 @@ void PrintBoundsJson(const Case& c, const HarmonicBalance& system, const BoundCu
     for (const BoundsResult& b : results) pts.push_back(BoundsJson(c.model, b));
     j["points"] = pts;
   }
-  // Pass 1 at the anchors, a continuation per chain between them, pass 2 (two sweeps, or every
-  // point), and on the harmonic ladder the refinement of every point.
-  const std::vector<int> anchors = CurveAnchors(n, co.anchor_every);
-  const int units =
-      static_cast<int>(anchors.size() + CurveChains(anchors).size()) +
-      (co.warm_start && n > 1 ? (co.neighbour_pass == BoundCurveOptions::kSweeps ? 2 : n) : 0) +
-      (UsesHarmonicLadder(system, co.bounds) ? n : 0);
+  // The units of every stage the curve ran (ComputeBoundCurve's stages).
+  int units = 0;
+  for (const CurveStage& s : run.stages) units += s.units;
   j["units"] = {{"total", units},
                 {"computed", run.computed},
                 {"resumed", run.resumed},
@@ -160,7 +155,7 @@ int DesignCommands::State::RunBounds() {
   for (const BoundsResult& b : curve.points) ok = ok && b.IsUsable();
   // Reported: the peak of y_max, else the first point (whose values are NaN).
   if (as_json) {
-    PrintBoundsJson(c, system, co, curve, run, wall, {h5p, csvp});
+    PrintBoundsJson(c, co, curve, run, wall, {h5p, csvp});
   } else if (!quiet) {
     PrintBoundsText(c, curve, run, wall, h5p, csvp);
   }

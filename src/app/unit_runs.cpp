@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <stdexcept>
@@ -68,237 +69,92 @@ SweepUnitsRun RunSweepUnits(const std::filesystem::path& dir, const nlohmann::js
 
 namespace {
 
-// The points 0..n-1 dearest first by an earlier stage's wall time (the longest-processing-time
-// rule: no worker starts a long point while the others run out of work; the results do not
-// depend on the order). A time read back as null from a journal is NaN: it sorts last, keeping
-// the order strict.
-std::vector<int> DearestFirst(const std::vector<BoundsResult>& by) {
-  const auto cost = [&](int i) { return std::isfinite(by[i].wall_s) ? by[i].wall_s : -1.0; };
-  std::vector<int> order(by.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost(a) > cost(b); });
-  return order;
-}
-
-using Unit = std::function<std::string(int)>;
-
-// The bound curve as units of work, stage after stage: pass 1 (anchors), the continuations
-// between anchors, pass 2 from the neighbours' optima, the harmonic ladder's refinement.
-class CurveUnits {
+// The curve's stages (ComputeBoundCurve) over this rank's threads or the MPI ranks, through the
+// journal: a unit an earlier run finished is read back, every other one is recorded as it ends,
+// and every result goes through its record, so a resumed or distributed run gives the serial
+// run's curve bit for bit. Over ranks every rank calls Run alike: rank 0 hands the units out and
+// broadcasts the stage's records, which every rank reads back.
+class JournalStageRunner : public CurveStageRunner {
  public:
-  CurveUnits(const HarmonicBalance& system, const BalanceMaker& make_balance,
-             const std::vector<double>& freqs, const BoundCurveOptions& options)
-      : freqs_(freqs),
-        options_(options),
-        n_(static_cast<int>(freqs.size())),
-        ranks_(MpiSize() > 1),
-        two_passes_(options.warm_start && n_ > 1),
-        sweeps_(two_passes_ && options.neighbour_pass == BoundCurveOptions::kSweeps),
-        anchors_(CurveAnchors(n_, options.anchor_every)),
-        chains_(CurveChains(anchors_)),
-        pool_(system, make_balance),
-        // On the harmonic ladder the passes run at H = 1 (`search_`) and a last stage refines
-        // each point at H from its H = 1 optima (BoundCurveOptions, design.h).
-        ladder_(UsesHarmonicLadder(system, options.bounds)),
-        search_(options.bounds),
-        pass1_(n_),
-        every_(n_) {
-    search_.search_harmonics = 0;
-    std::iota(every_.begin(), every_.end(), 0);
-  }
+  JournalStageRunner(int threads, const std::function<void(const std::string&, int, int)>& progress,
+                     RunJournal* journal, CurveUnitsRun* run)
+      : threads_(threads), progress_(progress), journal_(journal), run_(run) {}
 
-  // A worker rank: units in, records out, stage after stage as rank 0 runs them.
-  CurveUnitsRun RunAsWorker() {
-    DistributeUnits({}, first_, {});
-    if (!chains_.empty()) {
-      Share(anchors_, &pass1_);
-      DistributeUnits({}, chain_, {});
-    }
-    if (two_passes_) {
-      Share(every_, &pass1_);
-      DistributeUnits({}, sweeps_ ? sweep_ : second_, {});
-    }
-    if (ladder_) {
-      pass2_.resize(n_);
-      Share(every_, &pass2_);
-      DistributeUnits({}, refine_, {});
-    }
-    CurveUnitsRun run;
-    run.worker = true;
-    return run;
-  }
-
-  // Rank 0 (or the only one): every stage through the journal, which keeps pass 1 at i, pass 2
-  // at n + i (its sweeps up and down at n and n + 1), chain c at 2n + c, the ladder's refinement
-  // at 2n + chains + i.
-  CurveUnitsRun Run(RunJournal* journal) {
-    journal_ = journal;
-    RunStage(0, anchors_, first_, "frequencies");
-    for (int i : anchors_) pass1_[i] = BoundsFromRecord(journal_->finished().at(i));
-    if (!chains_.empty()) Continue();
-    if (two_passes_) {
-      if (ranks_) Share(every_, &pass1_);
-      if (sweeps_) {
-        RunStage(n_, {0, 1}, sweep_, "sweeps");
-        run_.points = MergeSweeps(ReadSweep(n_), ReadSweep(n_ + 1), pass1_, search_.objective);
-      } else {
-        // Pass 2 dearest point first, by its pass-1 time (near a resonance both passes are
-        // long), so that no worker starts a long point while the others run out of work. The
-        // curve does not depend on the order.
-        RunStage(n_, DearestFirst(pass1_), second_, "neighbour starts");
-        run_.points = Read(n_);
-      }
+  std::map<int, std::vector<BoundsResult>> Run(const CurveStageSpec& stage,
+                                               const std::vector<int>& units,
+                                               const Unit& unit) override {
+    const auto text = [&](int u) { return ToText(stage, unit(u)).dump(); };
+    const bool ranks = MpiSize() > 1;
+    nlohmann::json records = nlohmann::json::array();
+    if (ranks && MpiRank() != 0) {
+      DistributeUnits({}, text, {});
     } else {
-      run_.points = pass1_;
+      Compute(stage, units, text);
+      for (int u : units) records.push_back(journal_->finished().at(stage.key + u));
     }
-    if (ladder_) {
-      pass2_ = run_.points;
-      if (ranks_) Share(every_, &pass2_);
-      const int offset = 2 * n_ + static_cast<int>(chains_.size());
-      // Dearest first again, by the H = 1 passes' time.
-      RunStage(offset, DearestFirst(pass2_), refine_, "harmonic refinement");
-      run_.points = Read(offset);
-    }
-    return std::move(run_);
+    if (ranks) records = nlohmann::json::parse(BroadcastText(records.dump()));
+    std::map<int, std::vector<BoundsResult>> out;
+    for (size_t k = 0; k < units.size(); ++k) out[units[k]] = FromText(stage, records.at(k));
+    return out;
   }
 
  private:
-  const HarmonicBalance& AtSearch(const BalancePool::Lease& lease) const {
-    return SearchBalance(lease.get(), options_.bounds);
+  static nlohmann::json ToText(const CurveStageSpec& stage, const std::vector<BoundsResult>& r) {
+    if (!stage.many) return BoundsRecord(r.at(0));
+    nlohmann::json a = nlohmann::json::array();
+    for (const BoundsResult& b : r) a.push_back(BoundsRecord(b));
+    return a;
   }
-
-  // A sweep's record: one point record per frequency, in the points' order.
-  std::vector<BoundsResult> ReadSweep(int key) const {
+  static std::vector<BoundsResult> FromText(const CurveStageSpec& stage, const nlohmann::json& j) {
+    if (!stage.many) return {BoundsFromRecord(j)};
     std::vector<BoundsResult> out;
-    for (const nlohmann::json& r : journal_->finished().at(key)) out.push_back(BoundsFromRecord(r));
-    if (static_cast<int>(out.size()) != n_) {
-      throw std::runtime_error("bounds: the journal's sweep holds " + std::to_string(out.size()) +
-                               " points, the curve has " + std::to_string(n_));
-    }
+    for (const nlohmann::json& r : j) out.push_back(BoundsFromRecord(r));
     return out;
   }
 
-  std::vector<BoundsResult> Read(int offset) const {
-    std::vector<BoundsResult> out(n_);
-    for (int i = 0; i < n_; ++i) out[i] = BoundsFromRecord(journal_->finished().at(offset + i));
-    return out;
-  }
-
-  // The continuations from the anchors, merged into pass 1.
-  void Continue() {
-    if (ranks_) Share(anchors_, &pass1_);
-    std::vector<int> chain_ids(chains_.size());
-    std::iota(chain_ids.begin(), chain_ids.end(), 0);
-    RunStage(2 * n_, chain_ids, chain_, "continuations");
-    std::vector<std::vector<BoundsResult>> results(chains_.size());
-    for (size_t c = 0; c < chains_.size(); ++c) {
-      for (const nlohmann::json& r : journal_->finished().at(2 * n_ + static_cast<int>(c))) {
-        results[c].push_back(BoundsFromRecord(r));
-      }
-    }
-    MergeChains(chains_, results, search_.objective, &pass1_);
-  }
-
-  // Every rank holds the points `ids` of `stage` before the next stage (root broadcasts them).
-  void Share(const std::vector<int>& ids, std::vector<BoundsResult>* stage) const {
-    nlohmann::json all = nlohmann::json::array();
-    if (MpiRank() == 0) {
-      for (int i : ids) all.push_back(BoundsRecord((*stage)[i]));
-    }
-    all = nlohmann::json::parse(BroadcastText(all.dump()));
-    for (size_t k = 0; k < ids.size(); ++k) (*stage)[ids[k]] = BoundsFromRecord(all.at(k));
-  }
-
-  // The units `ids` of one stage not in the journal yet, on threads or over the ranks.
-  void RunStage(int offset, const std::vector<int>& ids, const Unit& unit,
-                const std::string& stage) {
+  // Rank 0 (or the only one): the stage's units not in the journal yet, on threads or over the
+  // ranks, each recorded as it ends.
+  void Compute(const CurveStageSpec& stage, const std::vector<int>& units,
+               const std::function<std::string(int)>& text) {
     std::vector<int> pending;
-    for (int i : ids) {
-      if (journal_->finished().count(offset + i) == 0) pending.push_back(i);
+    for (int u : units) {
+      if (journal_->finished().count(stage.key + u) == 0) pending.push_back(u);
     }
-    const int total = static_cast<int>(ids.size());
+    const int total = static_cast<int>(units.size());
     int done = total - static_cast<int>(pending.size());
-    run_.resumed += done;
+    run_->resumed += done;
     const auto t0 = std::chrono::steady_clock::now();
     // The stage's name shows at its start: a curve of one point (bounds --freq) would otherwise
     // show nothing during a minutes-long refinement.
-    if (options_.progress) options_.progress(stage, done, total);
-    const auto record = [&](int i, const std::string& text) {
-      journal_->Record(offset + i, nlohmann::json::parse(text));
-      ++run_.computed;
-      if (options_.progress) options_.progress(stage, ++done, total);
+    if (progress_) progress_(stage.name, done, total);
+    const auto record = [&](int u, const std::string& t) {
+      journal_->Record(stage.key + u, nlohmann::json::parse(t));
+      ++run_->computed;
+      if (progress_) progress_(stage.name, ++done, total);
     };
-    if (ranks_) {
-      DistributeUnits(pending, unit, record);
+    if (MpiSize() > 1) {
+      DistributeUnits(pending, text, record);
     } else {
       std::map<int, std::string> texts;
       std::mutex lock;
       RunWorkUnits(
-          pending, WorkerThreads(options_.threads, total),
-          [&](int i) {
-            std::string t = unit(i);
+          pending, WorkerThreads(threads_, total),
+          [&](int u) {
+            std::string t = text(u);
             const std::lock_guard<std::mutex> g(lock);
-            texts[i] = std::move(t);
+            texts[u] = std::move(t);
           },
-          [&](int i) { record(i, texts.at(i)); });
+          [&](int u) { record(u, texts.at(u)); });
     }
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    run_.stages.push_back({stage, total, static_cast<int>(pending.size()), wall_s});
+    run_->stages.push_back({stage.name, total, static_cast<int>(pending.size()), wall_s});
   }
 
-  const std::vector<double>& freqs_;
-  const BoundCurveOptions& options_;
-  const int n_;
-  const bool ranks_;
-  const bool two_passes_;
-  const bool sweeps_;  // pass 2 as two sweeps (BoundCurveOptions::kSweeps)
-  const std::vector<int> anchors_;
-  const std::vector<CurveChain> chains_;
-  BalancePool pool_;
-  const bool ladder_;
-  BoundsOptions search_;
-  std::vector<BoundsResult> pass1_;  // read back from records on every rank before pass 2
-  std::vector<BoundsResult> pass2_;  // the same before the refinement (ladder)
-  std::vector<int> every_;
-  RunJournal* journal_ = nullptr;
-  CurveUnitsRun run_;
-
-  // The units of each stage: unit i is point i (chain c for the continuations), as a record.
-  const Unit first_ = [this](int i) {
-    const BalancePool::Lease lease = pool_.Borrow();
-    return BoundsRecord(SearchLevels(AtSearch(lease), freqs_[i], search_, options_.levels)).dump();
-  };
-  const Unit chain_ = [this](int c) {
-    std::vector<double> f;
-    for (int i : chains_[c].points) f.push_back(freqs_[i]);
-    const BalancePool::Lease lease = pool_.Borrow();
-    nlohmann::json records = nlohmann::json::array();
-    for (const BoundsResult& r :
-         ContinueBounds(AtSearch(lease), pass1_[chains_[c].from], f, search_)) {
-      records.push_back(BoundsRecord(r));
-    }
-    return records.dump();
-  };
-  const Unit second_ = [this](int i) {
-    const BalancePool::Lease lease = pool_.Borrow();
-    return BoundsRecord(RefineFromNeighbours(AtSearch(lease), pass1_, i, search_)).dump();
-  };
-  // Pass 2's sweep up (unit 0) or down (unit 1) the curve, as one record per point.
-  const Unit sweep_ = [this](int d) {
-    const BalancePool::Lease lease = pool_.Borrow();
-    nlohmann::json records = nlohmann::json::array();
-    for (const BoundsResult& r : SweepBounds(AtSearch(lease), pass1_, d == 0, search_)) {
-      records.push_back(BoundsRecord(r));
-    }
-    return records.dump();
-  };
-  const Unit refine_ = [this](int i) {
-    const BalancePool::Lease lease = pool_.Borrow();
-    return BoundsRecord(
-               RefineLevelsAtHarmonics(lease.get(), pass2_[i], options_.bounds, options_.levels))
-        .dump();
-  };
+  const int threads_;
+  const std::function<void(const std::string&, int, int)>& progress_;
+  RunJournal* journal_;
+  CurveUnitsRun* run_;
 };
 
 }  // namespace
@@ -308,12 +164,20 @@ CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::js
                             const BalanceMaker& make_balance, const std::vector<double>& freqs,
                             const BoundCurveOptions& options,
                             const std::function<void(const CurveUnitsRun&)>& write_files) {
-  CurveUnits units(system, make_balance, freqs, options);
-  if (MpiSize() > 1 && MpiRank() != 0) return units.RunAsWorker();
-  RunJournal journal(dir, "bounds", header, resume);
-  const CurveUnitsRun run = units.Run(&journal);
+  CurveUnitsRun run;
+  const bool worker = MpiSize() > 1 && MpiRank() != 0;
+  std::unique_ptr<RunJournal> journal;
+  if (!worker) journal = std::make_unique<RunJournal>(dir, "bounds", header, resume);
+  BoundCurveOptions o = options;
+  o.progress = worker ? nullptr : options.progress;
+  JournalStageRunner runner(options.threads, o.progress, journal.get(), &run);
+  run.points = ComputeBoundCurve(system, freqs, o, make_balance, runner).points;
+  if (worker) {
+    run.worker = true;
+    return run;
+  }
   write_files(run);
-  journal.Complete();
+  journal->Complete();
   return run;
 }
 

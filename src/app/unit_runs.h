@@ -50,13 +50,12 @@ struct CurveUnitsRun {
   bool worker = false;               // an MPI rank other than 0
 };
 
-// The bound curve's frequencies as units of work, in the two passes of ComputeBoundCurve
-// (design.h; unit i is pass 1 of point i — anchors only when options.anchor_every > 1 —, unit
-// n + i its pass 2, unit 2n + c the continuation along chain c): on the calling rank's threads
-// (options.threads, extra balances from make_balance) or over MPI ranks when there are several.
-// Rank 0 journals each finished unit in `dir` (name "bounds"), calls write_files with the points
-// while it holds the folder's lock, and then drops the journal. Every result goes through its
-// journal record, so a resumed or distributed run gives the serial run's curve bit for bit.
+// The library's bound curve (ComputeBoundCurve, design.h) with its stages' units on the calling
+// rank's threads (options.threads, extra balances from make_balance) or over MPI ranks when
+// there are several, through a journal in `dir` (name "bounds", keyed as the stages say).
+// Rank 0 calls write_files with the points while it holds the folder's lock, and then drops the
+// journal. Every result goes through its journal record, so a resumed or distributed run gives
+// the serial run's curve bit for bit.
 CurveUnitsRun RunCurveUnits(const std::filesystem::path& dir, const nlohmann::json& header,
                             bool resume, const HarmonicBalance& system,
                             const BalanceMaker& make_balance, const std::vector<double>& freqs,

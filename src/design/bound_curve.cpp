@@ -1,7 +1,9 @@
 // Bound curves over frequency: the bounds point by point (independent units of work, on threads),
 // the order-free warm start from the neighbours' optima, and the resonance of the maximum bound.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -231,10 +233,52 @@ BoundCurve AssembleBoundCurve(std::vector<BoundsResult> points) {
   return curve;
 }
 
-BoundCurve ComputeBoundCurve(
-    const HarmonicBalance& system, const std::vector<double>& freqs_hz,
-    const BoundCurveOptions& options,
-    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance) {
+ThreadStageRunner::ThreadStageRunner(int threads,
+                                     std::function<void(const std::string&, int, int)> progress)
+    : threads_(threads), progress_(std::move(progress)) {}
+
+std::map<int, std::vector<BoundsResult>> ThreadStageRunner::Run(const CurveStageSpec& stage,
+                                                                const std::vector<int>& units,
+                                                                const Unit& unit) {
+  std::map<int, std::vector<BoundsResult>> out;
+  for (int u : units) out[u];  // every entry exists before the workers write theirs
+  const int total = static_cast<int>(units.size());
+  int done = 0;
+  RunWorkUnits(
+      units, WorkerThreads(threads_, total), [&](int u) { out.at(u) = unit(u); },
+      [&](int) {
+        if (progress_) progress_(stage.name, ++done, total);
+      });
+  return out;
+}
+
+namespace {
+
+// The points dearest first by an earlier stage's wall time (the longest-processing-time rule: no
+// worker starts a long point while the others run out of work; the curve does not depend on the
+// order). A time that is not finite sorts last, keeping the order strict.
+std::vector<int> DearestFirst(const std::vector<BoundsResult>& by) {
+  const auto cost = [&](int i) { return std::isfinite(by[i].wall_s) ? by[i].wall_s : -1.0; };
+  std::vector<int> order(by.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost(a) > cost(b); });
+  return order;
+}
+
+// The one point of each unit of a one-point stage, into `points`.
+void TakePoints(const std::map<int, std::vector<BoundsResult>>& results,
+                std::vector<BoundsResult>* points) {
+  for (const auto& [i, r] : results) {
+    if (r.size() != 1) throw std::logic_error("ComputeBoundCurve: a point unit gave no point");
+    (*points)[i] = r.front();
+  }
+}
+
+// The curve's stages (design.h): one algorithm, whoever runs the units. point_progress: each
+// pass-1 point's own stages, prefixed by its frequency (when they come in order).
+BoundCurve CurveStages(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+                       const BoundCurveOptions& options, const BalanceMaker& make_balance,
+                       CurveStageRunner& runner, bool point_progress) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
   for (double f : freqs_hz) {
@@ -244,11 +288,10 @@ BoundCurve ComputeBoundCurve(
   }
   const auto t0 = std::chrono::steady_clock::now();
   const int n = static_cast<int>(freqs_hz.size());
-  const int threads = WorkerThreads(options.threads, n);
   BalancePool pool(system, make_balance);
-  std::vector<int> all(n);
-  for (int i = 0; i < n; ++i) all[i] = i;
-  const auto& progress = options.progress;
+  const auto at_search = [&](const BalancePool::Lease& lease) -> const HarmonicBalance& {
+    return SearchBalance(lease.get(), options.bounds);
+  };
   // On the harmonic ladder every stage below runs at H = 1 and a last one refines each point at
   // H from its H = 1 optima.
   const bool ladder = UsesHarmonicLadder(system, options.bounds);
@@ -256,90 +299,92 @@ BoundCurve ComputeBoundCurve(
   search.search_harmonics = 0;
   std::vector<BoundsResult> pass1(n);
   const std::vector<int> anchors = CurveAnchors(n, options.anchor_every);
-  int done = 0;
-  RunWorkUnits(
-      anchors, threads,
-      [&](int i) {
-        BoundsOptions bo = search;
-        if (progress && threads == 1) {  // a point's own stages only when they come in order
-          std::ostringstream label;
-          label << freqs_hz[i] << " Hz: ";
-          const std::string prefix = label.str();
-          bo.progress = [&progress, prefix](const std::string& stage, int d, int t) {
-            progress(prefix + stage, d, t);
-          };
-        }
-        const BalancePool::Lease lease = pool.Borrow();
-        pass1[i] = SearchLevels(SearchBalance(lease.get(), options.bounds), freqs_hz[i], bo,
-                                options.levels);
-      },
-      [&](int) {
-        if (progress) progress("frequencies", ++done, static_cast<int>(anchors.size()));
-      });
+  TakePoints(runner.Run({"frequencies", 0, false}, anchors,
+                        [&](int i) {
+                          BoundsOptions bo = search;
+                          if (point_progress && options.progress) {
+                            std::ostringstream label;
+                            label << freqs_hz[i] << " Hz: ";
+                            const std::string prefix = label.str();
+                            const auto& progress = options.progress;
+                            bo.progress = [&progress, prefix](const std::string& st, int d, int t) {
+                              progress(prefix + st, d, t);
+                            };
+                          }
+                          const BalancePool::Lease lease = pool.Borrow();
+                          return std::vector<BoundsResult>{
+                              SearchLevels(at_search(lease), freqs_hz[i], bo, options.levels)};
+                        }),
+             &pass1);
   const std::vector<CurveChain> chains = CurveChains(anchors);
   if (!chains.empty()) {
-    std::vector<std::vector<BoundsResult>> chain_results(chains.size());
     std::vector<int> ids(chains.size());
-    for (size_t c = 0; c < chains.size(); ++c) ids[c] = static_cast<int>(c);
-    done = 0;
-    RunWorkUnits(
-        ids, WorkerThreads(options.threads, static_cast<int>(ids.size())),
-        [&](int c) {
-          std::vector<double> f;
-          for (int i : chains[c].points) f.push_back(freqs_hz[i]);
-          const BalancePool::Lease lease = pool.Borrow();
-          chain_results[c] = ContinueBounds(SearchBalance(lease.get(), options.bounds),
-                                            pass1[chains[c].from], f, search);
-        },
-        [&](int) {
-          if (progress) progress("continuations", ++done, static_cast<int>(ids.size()));
-        });
+    std::iota(ids.begin(), ids.end(), 0);
+    const auto results = runner.Run({"continuations", 2 * n, true}, ids, [&](int c) {
+      std::vector<double> f;
+      for (int i : chains[c].points) f.push_back(freqs_hz[i]);
+      const BalancePool::Lease lease = pool.Borrow();
+      return ContinueBounds(at_search(lease), pass1[chains[c].from], f, search);
+    });
+    std::vector<std::vector<BoundsResult>> chain_results(chains.size());
+    for (const auto& [c, r] : results) chain_results[c] = r;
     MergeChains(chains, chain_results, search.objective, &pass1);
   }
   std::vector<BoundsResult> points = pass1;
   if (options.warm_start && n > 1 && options.neighbour_pass == BoundCurveOptions::kSweeps) {
-    std::vector<BoundsResult> sweeps[2];
-    done = 0;
-    RunWorkUnits(
-        {0, 1}, WorkerThreads(options.threads, 2),
-        [&](int d) {
-          const BalancePool::Lease lease = pool.Borrow();
-          sweeps[d] =
-              SweepBounds(SearchBalance(lease.get(), options.bounds), pass1, d == 0, search);
-        },
-        [&](int) {
-          if (progress) progress("sweeps", ++done, 2);
-        });
-    points = MergeSweeps(std::move(sweeps[0]), sweeps[1], pass1, search.objective);
+    const auto sweeps = runner.Run({"sweeps", n, true}, {0, 1}, [&](int d) {
+      const BalancePool::Lease lease = pool.Borrow();
+      return SweepBounds(at_search(lease), pass1, d == 0, search);
+    });
+    for (const auto& [d, r] : sweeps) {
+      if (static_cast<int>(r.size()) != n) {
+        throw std::runtime_error("ComputeBoundCurve: a sweep holds " + std::to_string(r.size()) +
+                                 " points, the curve has " + std::to_string(n));
+      }
+    }
+    points = MergeSweeps(sweeps.at(0), sweeps.at(1), pass1, search.objective);
   } else if (options.warm_start && n > 1) {
-    done = 0;
-    RunWorkUnits(
-        all, threads,
-        [&](int i) {
-          const BalancePool::Lease lease = pool.Borrow();
-          points[i] =
-              RefineFromNeighbours(SearchBalance(lease.get(), options.bounds), pass1, i, search);
-        },
-        [&](int) {
-          if (progress) progress("neighbour starts", ++done, n);
-        });
+    // Dearest first, by the pass-1 time (near a resonance both passes are long).
+    TakePoints(runner.Run({"neighbour starts", n, false}, DearestFirst(pass1),
+                          [&](int i) {
+                            const BalancePool::Lease lease = pool.Borrow();
+                            return std::vector<BoundsResult>{
+                                RefineFromNeighbours(at_search(lease), pass1, i, search)};
+                          }),
+               &points);
   }
   if (ladder) {
-    done = 0;
-    RunWorkUnits(
-        all, threads,
-        [&](int i) {
-          const BalancePool::Lease lease = pool.Borrow();
-          points[i] =
-              RefineLevelsAtHarmonics(lease.get(), points[i], options.bounds, options.levels);
-        },
-        [&](int) {
-          if (progress) progress("harmonic refinement", ++done, n);
-        });
+    const std::vector<BoundsResult> low = points;
+    const int key = 2 * n + static_cast<int>(chains.size());
+    TakePoints(runner.Run({"harmonic refinement", key, false}, DearestFirst(low),
+                          [&](int i) {
+                            const BalancePool::Lease lease = pool.Borrow();
+                            return std::vector<BoundsResult>{RefineLevelsAtHarmonics(
+                                lease.get(), low[i], options.bounds, options.levels)};
+                          }),
+               &points);
   }
   BoundCurve curve = AssembleBoundCurve(std::move(points));
   curve.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return curve;
+}
+
+}  // namespace
+
+BoundCurve ComputeBoundCurve(
+    const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+    const BoundCurveOptions& options,
+    const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance) {
+  ThreadStageRunner runner(options.threads, options.progress);
+  const bool in_order = WorkerThreads(options.threads, static_cast<int>(freqs_hz.size())) == 1;
+  return CurveStages(system, freqs_hz, options, make_balance, runner, in_order);
+}
+
+BoundCurve ComputeBoundCurve(const HarmonicBalance& system, const std::vector<double>& freqs_hz,
+                             const BoundCurveOptions& options,
+                             const std::function<std::unique_ptr<HarmonicBalance>()>& make_balance,
+                             CurveStageRunner& runner) {
+  return CurveStages(system, freqs_hz, options, make_balance, runner, false);
 }
 
 std::string BoundCurve::BriefReport() const {
