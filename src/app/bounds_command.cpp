@@ -25,8 +25,9 @@ namespace {
 
 // The JSON of `fricrom bounds`: the peak's bounds (or the single frequency's), with every point,
 // the units of work and the files of a curve.
-void PrintBoundsJson(const Case& c, const BoundCurveOptions& co, const BoundCurve& curve,
-                     const CurveUnitsRun& run, double wall, const std::array<fs::path, 2>& files) {
+void PrintBoundsJson(const Case& c, const BoundCurveOptions& co, const std::string& preset,
+                     const BoundCurve& curve, const CurveUnitsRun& run, double wall,
+                     const std::array<fs::path, 2>& files) {
   const std::vector<BoundsResult>& results = curve.points;
   const bool have_peak = curve.HasPeak();
   const BoundsResult& at = results[have_peak ? curve.peak : 0];
@@ -52,6 +53,18 @@ void PrintBoundsJson(const Case& c, const BoundCurveOptions& co, const BoundCurv
         {{"stage", s.name}, {"units", s.units}, {"computed", s.computed}, {"wall_s", s.wall_s}});
   }
   j["stages"] = stages;
+  // The search's settings as used (the preset's, or the options that override it).
+  json level_names = json::array();
+  for (const AlphaLevel& l : co.levels.levels) {
+    level_names.push_back({{"name", l.name}, {"parameters", l.num_parameters()}});
+  }
+  j["search"] = {{"preset", preset},
+                 {"levels", level_names},
+                 {"max_corners", co.levels.max_corners},
+                 {"corner_starts", co.levels.corner_starts},
+                 {"random_seeds", co.bounds.random_seeds},
+                 {"check_samples", co.bounds.check_samples},
+                 {"search_harmonics", co.bounds.search_harmonics}};
   j["wall_s"] = wall;
   j["files"] = {{"hdf5", files[0].string()}, {"csv", files[1].string()}};
   std::cout << j.dump() << "\n";
@@ -155,7 +168,7 @@ int DesignCommands::State::RunBounds() {
   for (const BoundsResult& b : curve.points) ok = ok && b.IsUsable();
   // Reported: the peak of y_max, else the first point (whose values are NaN).
   if (as_json) {
-    PrintBoundsJson(c, co, curve, run, wall, {h5p, csvp});
+    PrintBoundsJson(c, co, search, curve, run, wall, {h5p, csvp});
   } else if (!quiet) {
     PrintBoundsText(c, curve, run, wall, h5p, csvp);
   }

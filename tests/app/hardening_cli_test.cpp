@@ -151,6 +151,23 @@ TEST(CliHardening, AnUnsettledRunNextToASolutionThatHoldsIsSteady) {
   EXPECT_GT(e.at("time_integration_unsteady").get<int>(), 0);
 }
 
+// The JSON says which search ran: the preset and the settings it set.
+TEST(CliHardening, BoundsJsonCarriesTheSearchSettingsUsed) {
+  TempDir tmp;
+  const std::string base = "bounds " + Quote(kBaseline) + " --freq 266 --json --search ";
+  const json q = json::parse(Stdout(base + "quick" + Out(tmp)).output).at("search");
+  EXPECT_EQ(q.at("preset"), "quick");
+  EXPECT_EQ(q.at("max_corners").get<int>(), 16);
+  EXPECT_EQ(q.at("corner_starts").get<int>(), 1);
+  const json t = json::parse(Stdout(base + "thorough" + Out(tmp)).output).at("search");
+  EXPECT_EQ(t.at("preset"), "thorough");
+  EXPECT_EQ(t.at("max_corners").get<int>(), 4096);
+  EXPECT_GE(t.at("random_seeds").get<int>(), 8);
+  EXPECT_GE(t.at("check_samples").get<int>(), 64);
+  ASSERT_EQ(t.at("levels").size(), 1u);  // a lumped case: one level
+  EXPECT_EQ(t.at("levels")[0].at("parameters").get<int>(), 4);
+}
+
 // Defect 9: frf --freq converges where the sweep does, to the sweep's branch.
 TEST(CliHardening, SingleFrequencyAsStrongAsTheSweep) {
   TempDir tmp;
