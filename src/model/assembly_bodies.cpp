@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 #include "assembly_parts.h"
 #include "fricrom/reduced_body.h"
@@ -236,6 +238,51 @@ void Rotate(const Reader& rd, const std::string& where, const Eigen::Matrix3d& r
   if (b->accel.size()) b->accel = t * b->accel * rot.transpose();
 }
 
+// Entries beyond this magnitude overflow double precision in the products the analysis forms.
+constexpr double kLargestEntry = 1e150;
+// Relative asymmetry |A − Aᵀ| / |A| (max norms) a body matrix may carry (exporters' round-off).
+constexpr double kAsymmetry = 1e-8;
+// A pivot of the LDLᵀ factorisation below −kIndefinite·(largest pivot) makes a matrix indefinite.
+constexpr double kIndefinite = 1e-8;
+
+// A body's stiffness, mass or damping as the analysis needs it: finite and representable,
+// symmetric, and (stiffness, mass) positive semi-definite; else an error naming the body.
+void CheckBodyMatrix(const Reader& rd, const std::string& where, const std::string& body,
+                     const char* what, const Eigen::MatrixXd& a, bool semi_definite,
+                     const toml::node* node) {
+  if (a.size() == 0) return;
+  const double largest = a.cwiseAbs().maxCoeff();
+  const std::string of = std::string(what) + " matrix of body '" + body + "'";
+  if (!std::isfinite(largest) || largest > kLargestEntry) {
+    rd.Fail(where,
+            "the " + of + " has an entry of magnitude " + std::to_string(largest) +
+                " (at most 1e150: larger ones overflow double precision)",
+            node);
+  }
+  const double asym = (a - a.transpose()).cwiseAbs().maxCoeff();
+  if (asym > kAsymmetry * largest) {
+    std::ostringstream s;
+    s << "the " << of << " is not symmetric (largest |A - A^T| " << asym
+      << " against entries up to " << largest << ")";
+    rd.Fail(where, s.str(), node);
+  }
+  if (!semi_definite) return;
+  if (largest == 0.0) {
+    if (std::string(what) == "mass")
+      rd.Fail(where, "the " + of + " is zero: a body needs mass", node);
+    return;
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(0.5 * (a + a.transpose()));
+  const Eigen::VectorXd d = ldlt.vectorD();
+  if (d.minCoeff() < -kIndefinite * d.cwiseAbs().maxCoeff()) {
+    std::ostringstream s;
+    s << "the " << of << " is indefinite (a negative pivot " << d.minCoeff()
+      << " of its LDL^T factorisation, largest " << d.cwiseAbs().maxCoeff()
+      << "): a stiffness or mass must be positive semi-definite";
+    rd.Fail(where, s.str(), node);
+  }
+}
+
 std::string DofName(const std::string& body, const DofId& d) {
   if (d.component == 0 && d.node < 0) return body + ".q" + std::to_string(-d.node);
   return body + "." + std::to_string(d.node) + "." + kComponentNames[d.component];
@@ -332,6 +379,9 @@ std::vector<AssemblyBody> ReadAssemblyBodies(const Reader& rd, const toml::table
     b.blade = role == "blade";
     toml::table rb{{"name", b.name}, {"role", role}};
     BodyMatrices m = ReadOneBody(rd, t, where, base, &b, &rb);
+    CheckBodyMatrix(rd, where, b.name, "stiffness", m.k, true, &t);
+    CheckBodyMatrix(rd, where, b.name, "mass", m.m, true, &t);
+    CheckBodyMatrix(rd, where, b.name, "damping", m.c, false, &t);
     b.dofs = m.dofs;
     b.offset = n;
     b.unit_acceleration_loads = m.accel;
@@ -355,6 +405,12 @@ std::vector<AssemblyBody> ReadAssemblyBodies(const Reader& rd, const toml::table
     resolved->push_back(std::move(rb));
     bodies.push_back(std::move(b));
     mats.push_back(std::move(m));
+  }
+  if (model->free_dofs.empty()) {
+    rd.Fail("bodies",
+            "no body is a blade (role = \"blade\"): an assembly needs at least one, the dampers "
+            "are condensed onto the blades",
+            root.get("bodies"));
   }
   model->stiffness.setZero(n, n);
   model->mass.setZero(n, n);

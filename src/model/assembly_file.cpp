@@ -45,6 +45,9 @@ void ReadContacts(const Reader& rd, const toml::table& root,
                  {"name", "a", "b", "normal", "tangent", "kn", "kt", "mu", "normal_preload"});
     Contact c;
     c.name = rd.String(t, where, "name");
+    for (const Contact& o : cs->model.contacts) {
+      if (o.name == c.name) rd.Fail(where + ".name", "duplicate contact name", t.get("name"));
+    }
     int64_t na = 0, nb = 0;
     for (const char* side : {"a", "b"}) {
       const toml::node& sn = rd.Require(t, where, side);

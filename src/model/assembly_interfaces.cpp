@@ -4,6 +4,7 @@
 // law (normal from the faces' geometry or given, tangent along the projected slip direction), with
 // kn, kt per pair given or from a stiffness per unit area times the nodal area of the faces
 // (docs/contact-interfaces.md). α: one per pair (the physical non-uniqueness) or one per interface.
+#include <algorithm>
 #include <cmath>
 
 #include "assembly_parts.h"
@@ -165,7 +166,12 @@ void ReadLaw(const Reader& rd, const toml::table& t, const std::string& where, I
     if (!(f->fixed_normal.norm() > 0)) rd.Fail(where + ".normal", "expected a non-zero vector");
     f->fixed_normal.normalize();
   }
-  if (t.get("slip_direction")) f->slip = Vector3(rd, t, where, "slip_direction");
+  if (t.get("slip_direction")) {
+    f->slip = Vector3(rd, t, where, "slip_direction");
+    if (!(f->slip.norm() > 0)) {
+      rd.Fail(where + ".slip_direction", "expected a non-zero vector", t.get("slip_direction"));
+    }
+  }
   f->mu = rd.NonNegative(t, where, "mu");
   f->preload = rd.NonNegative(t, where, "normal_preload", 0.0);
   const double nd = rd.NumberOr(t, where, "tangential_directions", 1.0);
@@ -258,6 +264,7 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
   std::vector<int> groups;
   for (size_t c = 0; c < cs->model.contacts.size(); ++c) groups.push_back(static_cast<int>(c));
   bool grouped = false;
+  std::vector<std::string> paired;  // the interfaces' sets, "body/set | body/set"
   for (size_t i = 0; i < arr.size(); ++i) {
     const std::string where = "interfaces[" + std::to_string(i) + "]";
     const toml::table& t = TableAt(rd, arr, i, where);
@@ -267,7 +274,26 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
          "slip_direction", "tangential_directions", "alpha", "area_scheme", "normal_preload"});
     Interface f;
     f.name = rd.String(t, where, "name");
+    for (const std::string& other : cs->interface_names) {
+      if (other == f.name) rd.Fail(where + ".name", "duplicate interface name", t.get("name"));
+    }
     ReadGeometry(rd, t, where, bodies, &f);
+    // A set paired with itself has no relative displacement; the same two sets paired twice
+    // would put every contact in twice (doubled stiffness and friction).
+    const auto side = [](const Side& s) { return s.body->name + "/" + s.set; };
+    if (side(f.a) == side(f.b)) {
+      rd.Fail(where, "side a and side b are the same set ('" + side(f.a) + "')", &t);
+    }
+    const std::string key = std::min(side(f.a), side(f.b)) + " | " + std::max(side(f.a), side(f.b));
+    for (size_t j = 0; j < paired.size(); ++j) {
+      if (paired[j] == key) {
+        rd.Fail(where,
+                "pairs the same sets as interfaces[" + std::to_string(j) + "] ('" + key +
+                    "'): its contacts would act twice",
+                &t);
+      }
+    }
+    paired.push_back(key);
     ReadLaw(rd, t, where, &f);
     const int first = static_cast<int>(cs->model.contacts.size());
     const double area_sum = AddContacts(f, cs);

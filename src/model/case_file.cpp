@@ -344,13 +344,27 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
       << ": TOML syntax error: " << e.description();
     throw CaseError(s.str());
   }
+  Case c;
   if (const toml::node* sn = root.get("schema");
       sn && sn->value<std::string>() == "fricrom-assembly-1") {
-    return detail::ParseAssembly(root, source_name, overrides);
+    c = detail::ParseAssembly(root, source_name, overrides);
+  } else {
+    Reader rd(source_name);
+    LumpedCaseParser parser(rd, root);
+    c = parser.Parse(overrides);
   }
-  Reader rd(source_name);
-  LumpedCaseParser parser(rd, root);
-  return parser.Parse(overrides);
+  // Without a harmonic load every response is zero and every bound an empty statement.
+  bool excited = false;
+  for (const HarmonicLoad& l : c.model.loads) {
+    excited = excited || (l.harmonic >= 1 &&
+                          (l.cos.cwiseAbs().maxCoeff() > 0.0 || l.sin.cwiseAbs().maxCoeff() > 0.0));
+  }
+  if (!excited) {
+    throw CaseError(source_name +
+                    ": no harmonic load (a load with harmonic >= 1 and a nonzero cos or sin): "
+                    "the forced response would be zero");
+  }
+  return c;
 }
 
 ParameterOverride ParseOverride(const std::string& text) {

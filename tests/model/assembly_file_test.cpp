@@ -116,5 +116,51 @@ TEST_F(BadAssembly, ErrorsNameTheFileKeyAndProblem) {
   EXPECT_NE(e.find("analysis.harmonics"), std::string::npos) << e;
 }
 
+// A matrix file of the copied case with `from` replaced by `to`, then the case's error.
+class BadBodyMatrix : public BadAssembly {
+ protected:
+  std::string MatrixError(const std::string& file, const std::string& from, const std::string& to) {
+    std::string m = testing::ReadFile(dir_ / file);
+    const auto pos = m.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    if (pos != std::string::npos) m.replace(pos, from.size(), to);
+    std::ofstream(dir_ / file) << m;
+    const std::string e = Error("name = \"lumped3-baseline-as-fe\"", "name = \"x\"");
+    std::ofstream(dir_ / file) << testing::ReadFile(fs::path(kAsFe).parent_path() / file);
+    return e;
+  }
+};
+
+// Input the analysis cannot represent is an error naming the body (it used to crash, or to give a
+// number: a segfault with no blade, exit 0 with an asymmetric, indefinite or 1e308 stiffness and a
+// negative or zero damper mass).
+TEST_F(BadBodyMatrix, BodiesTheAnalysisCannotRepresentAreErrors) {
+  std::string e = MatrixError("blades.K.mtx", "3 1 -700000", "3 1 -600000");
+  EXPECT_NE(e.find("stiffness matrix of body 'blades' is not symmetric"), std::string::npos) << e;
+  e = MatrixError("blades.K.mtx", "1 1 1000000", "1 1 -1000000");
+  EXPECT_NE(e.find("stiffness matrix of body 'blades' is indefinite"), std::string::npos) << e;
+  e = MatrixError("blades.K.mtx", "2 2 1000000", "2 2 1e308");
+  EXPECT_NE(e.find("overflow"), std::string::npos) << e;
+  e = MatrixError("damper1.M.mtx", "1 1 0.10000000000000001", "1 1 -0.1");
+  EXPECT_NE(e.find("mass matrix of body 'damper1' is indefinite"), std::string::npos) << e;
+  e = MatrixError("damper1.M.mtx", "1 1 0.10000000000000001\n2 2 0.10000000000000001",
+                  "1 1 0\n2 2 0");
+  EXPECT_NE(e.find("mass matrix of body 'damper1' is zero"), std::string::npos) << e;
+  EXPECT_EQ(MatrixError("damper1.M.mtx", "% name", "% name"), "");  // the original loads
+}
+
+TEST_F(BadAssembly, CasesWithoutMeaningAreErrors) {
+  std::string e = Error("role = \"blade\"", "role = \"damper\"");
+  EXPECT_NE(e.find("no body is a blade"), std::string::npos) << e;
+  e = Error("name = \"c2\"", "name = \"c1\"");
+  EXPECT_NE(e.find("contacts[1].name': duplicate contact name"), std::string::npos) << e;
+  std::string no_load = text_;
+  for (const char* c : {"cos = 5.0", "cos = 20.0", "cos = -5.0", "cos = 20.0"}) {
+    no_load.replace(no_load.find(c), std::string(c).size(), "cos = 0.0");
+  }
+  e = Error(text_, no_load);
+  EXPECT_NE(e.find("no harmonic load"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace fricrom

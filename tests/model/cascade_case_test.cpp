@@ -194,6 +194,33 @@ TEST_F(CascadeVariant, BadTangentialDirectionsNamesTheKey) {
   }
 }
 
+// Interfaces the analysis cannot represent are errors naming the key (they used to give numbers:
+// the same sets paired twice doubled the contacts, a zero slip direction, a duplicate name).
+TEST_F(CascadeVariant, InterfacesWithoutMeaningAreErrors) {
+  const auto error = [&](const std::string& from, const std::string& to) {
+    try {
+      Load(from, to);
+    } catch (const CaseError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string e = error("name = \"d1R\"", "name = \"d1L\"");
+  EXPECT_NE(e.find("interfaces[1].name': duplicate interface name"), std::string::npos) << e;
+  e = error(
+      "a = { body = \"damper1\", set = \"CONTACT_RIGHT\" }\nb = { body = \"blade2\", set = "
+      "\"CONTACT_LEFT\" }",
+      "a = { body = \"blade1\", set = \"CONTACT_RIGHT\" }\nb = { body = \"damper1\", set = "
+      "\"CONTACT_LEFT\" }");
+  EXPECT_NE(e.find("pairs the same sets as interfaces[0]"), std::string::npos) << e;
+  e = error("b = { body = \"blade1\", set = \"CONTACT_RIGHT\" }",
+            "b = { body = \"damper1\", set = \"CONTACT_LEFT\" }");
+  EXPECT_NE(e.find("side a and side b are the same set"), std::string::npos) << e;
+  e = error("slip_direction = [0.0, 1.0, 0.0]", "slip_direction = [0.0, 0.0, 0.0]");
+  EXPECT_NE(e.find("interfaces[0].slip_direction': expected a non-zero vector"), std::string::npos)
+      << e;
+}
+
 TEST_F(CascadeVariant, UnpairableFacesListTheUnmatchedNodes) {
   // Damper 2 left in sector 1's position: its faces no longer meet blades 2 and 3.
   try {
