@@ -121,6 +121,7 @@ int DesignCommands::State::RunBounds() {
   const double hi = range.empty() ? c.analysis.freq_max_hz : range[1];
   const std::vector<double> freqs =
       freq > 0.0 ? std::vector<double>{freq} : EvenFrequencies(lo, hi, points);
+  if (freq > 0.0) WarnOutsideCaseRange(c, freq, "--freq");
   Progress progress{ShowProgress(), "bounds"};
   BoundCurveOptions co;
   co.bounds = base;

@@ -1,7 +1,10 @@
 #include "app/cli_common.h"
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
+
+#include "app/mpi_units.h"
 
 namespace fricrom::app {
 
@@ -154,6 +157,14 @@ std::vector<bool> MixedConfiguration(const Model& model,
     mixed.push_back(stick && slip);
   }
   return mixed;
+}
+
+void WarnOutsideCaseRange(const Case& c, double freq_hz, const std::string& option) {
+  const double lo = c.analysis.freq_min_hz, hi = c.analysis.freq_max_hz;
+  if (freq_hz >= lo && freq_hz <= hi) return;
+  if (MpiRank() != 0) return;
+  std::cerr << "fricrom: warning: " << option << " " << freq_hz
+            << " Hz lies outside the case's range [" << lo << ", " << hi << "] Hz\n";
 }
 
 std::vector<std::string> RegimeNames(const std::vector<ContactRegime>& regimes) {

@@ -60,5 +60,8 @@ std::vector<std::vector<int>> ContactsByDamper(const Model& model);
 // period and another slips during it.
 std::vector<bool> MixedConfiguration(const Model& model, const std::vector<ContactRegime>& regimes);
 std::vector<std::string> RegimeNames(const std::vector<ContactRegime>& regimes);
+// A warning on stderr (rank 0) where a frequency given on the command line lies outside the
+// case's [freq_min_hz, freq_max_hz]: allowed, but usually a unit or typing slip.
+void WarnOutsideCaseRange(const Case& c, double freq_hz, const std::string& option);
 
 }  // namespace fricrom::app

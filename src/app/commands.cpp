@@ -120,6 +120,7 @@ FrfRun SolveFrf(const Case& c, const HarmonicBalance& system, const Eigen::Vecto
     const std::vector<double> f = ParseList(a.freqs, "--freq");
     for (double v : f) {
       if (!(v > 0.0)) throw CLI::ValidationError("--freq", "frequencies must be > 0 Hz");
+      WarnOutsideCaseRange(c, v, "--freq");
     }
     run.points = SolveAtFrequencies(system, alpha, f, opt, [&](int done, int total) {
       if (show_progress)

@@ -158,7 +158,10 @@ struct DesignCommands::State {
 
   // Reference frequency: --freq, else the peak of y_max over the case range at the given case.
   double ReferenceFrequency(const Case& c, const BoundsOptions& bo, int* solves) const {
-    if (freq > 0.0) return freq;
+    if (freq > 0.0) {
+      WarnOutsideCaseRange(c, freq, "--freq");
+      return freq;
+    }
     const auto balance = MakeCaseBalance(c);
     const HarmonicBalance& system = *balance;
     ResonanceSearchOptions rs;

@@ -206,6 +206,7 @@ void PrintCertification(const json& j, const std::filesystem::path& file) {
 int DesignCommands::State::RunVerify() {
   const auto t0 = std::chrono::steady_clock::now();
   const Case c = verify_case.Load();
+  WarnOutsideCaseRange(c, freq, "--freq");
   const auto balance = MakeCaseBalance(c);
   const HarmonicBalance& system = *balance;
   const BoundsOptions bo = MakeBoundsOptions(c);

@@ -168,6 +168,17 @@ TEST(CliHardening, BoundsJsonCarriesTheSearchSettingsUsed) {
   EXPECT_EQ(t.at("levels")[0].at("parameters").get<int>(), 4);
 }
 
+// A frequency far outside the case's range is allowed but not silent.
+TEST(CliHardening, AFrequencyOutsideTheCaseRangeWarns) {
+  TempDir tmp;
+  const CliRun far = Stderr("frf " + Quote(kBaseline) + " --freq 1e5 --json" + Out(tmp));
+  EXPECT_NE(far.output.find("warning: --freq 100000 Hz lies outside the case's range [240, 290]"),
+            std::string::npos)
+      << far.output;
+  const CliRun in = Stderr("frf " + Quote(kBaseline) + " --freq 266 --json" + Out(tmp));
+  EXPECT_EQ(in.output.find("warning"), std::string::npos) << in.output;
+}
+
 // Defect 9: frf --freq converges where the sweep does, to the sweep's branch.
 TEST(CliHardening, SingleFrequencyAsStrongAsTheSweep) {
   TempDir tmp;
