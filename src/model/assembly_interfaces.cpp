@@ -6,6 +6,7 @@
 // (docs/contact-interfaces.md). α: one per pair (the physical non-uniqueness) or one per interface.
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "assembly_parts.h"
 
@@ -87,6 +88,18 @@ PairStiffness ReadStiffness(const Reader& rd, const toml::table& t, const std::s
   s.per_area = area;
   s.kn = rd.NonNegative(t, where, area ? "kn_per_area" : "kn");
   s.kt = rd.Positive(t, where, area ? "kt_per_area" : "kt");
+  // Beyond this a pair's stiffness (times an area of 1e-4 m² at most a few orders less) overflows
+  // the products of the stick stiffness, as a body matrix would (assembly_bodies.cpp).
+  constexpr double kLargest = 1e150;
+  for (const char* key : {"kn", "kt"}) {
+    const std::string k = std::string(key) + (area ? "_per_area" : "");
+    const double v = std::string(key) == "kn" ? s.kn : s.kt;
+    if (v > kLargest) {
+      std::ostringstream m;
+      m << "a contact stiffness of " << v << " is not representable (at most 1e150)";
+      rd.Fail(where + "." + k, m.str(), t.get(k));
+    }
+  }
   return s;
 }
 

@@ -216,6 +216,11 @@ TEST_F(CascadeVariant, InterfacesWithoutMeaningAreErrors) {
   e = error("b = { body = \"blade1\", set = \"CONTACT_RIGHT\" }",
             "b = { body = \"damper1\", set = \"CONTACT_LEFT\" }");
   EXPECT_NE(e.find("side a and side b are the same set"), std::string::npos) << e;
+  e = error("kn_per_area = \"k_area\"", "kn_per_area = 1e300");
+  EXPECT_NE(
+      e.find("interfaces[0].kn_per_area': a contact stiffness of 1e+300 is not representable"),
+      std::string::npos)
+      << e;
   e = error("slip_direction = [0.0, 1.0, 0.0]", "slip_direction = [0.0, 0.0, 0.0]");
   EXPECT_NE(e.find("interfaces[0].slip_direction': expected a non-zero vector"), std::string::npos)
       << e;
