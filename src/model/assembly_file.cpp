@@ -217,8 +217,12 @@ void ReadResponse(const Reader& rd, const toml::table& root,
   if (t.get("set")) {
     const std::string set = rd.String(t, "response", "set");
     const NodeSet* ns = b.Set(set);
-    if (!ns || ns->nodes.size() != 1) {
-      rd.Fail("response.set", "expected a set of exactly one node of body '" + b.name + "'",
+    if (!ns)
+      rd.Fail("response.set", "body '" + b.name + "' has no node set '" + set + "'", t.get("set"));
+    if (ns->nodes.size() != 1) {
+      rd.Fail("response.set",
+              "set '" + set + "' of body '" + b.name + "' has " + std::to_string(ns->nodes.size()) +
+                  " nodes; the response needs a set of exactly one node (or give `node`)",
               t.get("set"));
     }
     node = ns->nodes[0];

@@ -216,6 +216,10 @@ TEST_F(CascadeVariant, InterfacesWithoutMeaningAreErrors) {
   e = error("b = { body = \"blade1\", set = \"CONTACT_RIGHT\" }",
             "b = { body = \"damper1\", set = \"CONTACT_LEFT\" }");
   EXPECT_NE(e.find("side a and side b are the same set"), std::string::npos) << e;
+  e = error("set = \"RESPONSE\"", "set = \"RESPONS\"");
+  EXPECT_NE(e.find("body 'blade2' has no node set 'RESPONS'"), std::string::npos) << e;
+  e = error("set = \"RESPONSE\"", "set = \"CONTACT_LEFT\"");
+  EXPECT_NE(e.find("set 'CONTACT_LEFT' of body 'blade2' has 27 nodes"), std::string::npos) << e;
   e = error("kn_per_area = \"k_area\"", "kn_per_area = 1e300");
   EXPECT_NE(
       e.find("interfaces[0].kn_per_area': a contact stiffness of 1e+300 is not representable"),
