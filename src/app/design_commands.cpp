@@ -67,10 +67,6 @@ void DesignCommands::State::RegisterCommon(CLI::App* cmd) {
                   "Bound optimiser: reduced (projected gradient over alpha, Newton + adjoint; "
                   "default), ipopt (full space [x, alpha] with R = 0) or both (best of the two)")
       ->check(CLI::IsMember({"reduced", "ipopt", "both"}));
-  cmd->add_flag("--interface-seeds", interface_seeds,
-                "Add two alpha seeds per contact interface (+1 on it and -1 elsewhere, and the "
-                "opposite; per contact on lumped cases)")
-      ->group(kTuning);
   cmd->add_option("--random-seeds", random_seeds,
                   "Add this many random alpha seeds, uniform in [-1, 1] (fixed generator seed)")
       ->check(CLI::Range(0, 100000))

@@ -51,9 +51,8 @@ struct DesignCommands::State {
   int stall_window = BoundsOptions{}.stall_window;
   int maximum_bfgs_memory = BoundsOptions{}.maximum_bfgs_memory;
   std::string dominance = BoundsOptions{}.dominated_by_earlier_runs ? "runs" : "starts";
-  int search_harmonics = -1;  // --search-harmonics; -1: the case's analysis.search_harmonics
-  bool interface_seeds = false;
-  std::string search = "default";     // --search: quick | default | thorough (MakeLevelOptions)
+  int search_harmonics = -1;       // --search-harmonics; -1: the case's analysis.search_harmonics
+  std::string search = "default";  // --search: quick | default | thorough (MakeLevelOptions)
   std::string alpha_levels = "auto";  // --alpha-levels: auto (the case's hierarchy) | pair
   bool as_json = false, plot = false, quiet = false, track_peak = false;
   double freq = 0.0, from = 0.0, to = 0.0;
@@ -71,14 +70,6 @@ struct DesignCommands::State {
     const int nc = c.model.num_alpha();
     BoundsOptions o;
     if (!seeds.empty()) o.alpha_seeds = ParseSeeds(seeds, nc);
-    if (interface_seeds) {
-      // Lumped cases have no interfaces: each contact is its own group.
-      o.seed_groups = c.alpha_interface;
-      if (static_cast<int>(o.seed_groups.size()) != nc) {
-        o.seed_groups.resize(nc);
-        std::iota(o.seed_groups.begin(), o.seed_groups.end(), 0);
-      }
-    }
     o.random_seeds = random_seeds;
     if (objective == "loss-factor") o.objective = BoundsOptions::kLossFactor;
     if (!FromString(method, &o.method))
@@ -147,7 +138,6 @@ struct DesignCommands::State {
               {"dominance", dominance},
               {"search_harmonics", search_harmonics},
               {"random_seeds", random_seeds},
-              {"interface_seeds", interface_seeds},
               {"search", search},
               {"alpha_levels", alpha_levels}};
     j.update(extra);

@@ -39,19 +39,18 @@ TEST(AssemblyCli, BoundsThroughTheFePathEqualTheLumpedBounds) {
   EXPECT_EQ(b.at("contact_pairs"), 4);
 }
 
-// --interface-seeds adds two seeds per interface (here a contact each), --random-seeds N more;
-// the JSON counts them and the bounds stay the lumped ones.
+// --random-seeds N adds N seeds; the JSON counts them and the bounds stay the lumped ones.
 TEST(AssemblyCli, ExtraSeedsAreCountedInTheJson) {
   TempDir tmp;
-  const CliRun run = Stdout("bounds " + Quote(kDir + "as_fe/case.toml") +
-                            " --freq 266 --json --interface-seeds --random-seeds 4 --out " +
-                            Quote(tmp.path().string()));
+  const CliRun run =
+      Stdout("bounds " + Quote(kDir + "as_fe/case.toml") +
+             " --freq 266 --json --random-seeds 4 --out " + Quote(tmp.path().string()));
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const json j = json::parse(run.output);
   EXPECT_EQ(j.at("seeds").at("base"), 5);
-  EXPECT_EQ(j.at("seeds").at("interface_patterns"), 8);
+  EXPECT_EQ(j.at("seeds").at("interface_patterns"), 0);
   EXPECT_EQ(j.at("seeds").at("random"), 4);
-  EXPECT_EQ(j.at("seeds").at("tried"), 17);
+  EXPECT_EQ(j.at("seeds").at("tried"), 9);
   EXPECT_NEAR(j.at("y_max").get<double>(), 2.5305015e-4, 1e-10);
   const CliRun bad = fricrom::testing::Stderr("bounds " + Quote(kDir + "as_fe/case.toml") +
                                               " --freq 266 --random-seeds -3");
