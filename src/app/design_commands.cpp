@@ -223,7 +223,10 @@ void DesignCommands::State::RegisterVerify(CLI::App& app) {
   verify_case.Register(verify);
   RegisterCommon(verify);
   verify->add_option("--freq", freq, "Frequency [Hz]")->required()->check(Positive());
-  verify->add_option("--alpha-samples", samples, "Alpha samples (corners first, then random)")
+  verify
+      ->add_option("--alpha-samples", samples,
+                   "Uniform alpha samples after the structured ones (the box's corners first "
+                   "where it has fewer than 20 alpha; default 200)")
       ->check(CLI::Range(1, 1000000));
   verify->add_option("--time-runs", ti_runs, "Time integrations from different initial states")
       ->check(CLI::Range(0, 1000));
@@ -233,6 +236,8 @@ void DesignCommands::State::RegisterVerify(CLI::App& app) {
                    "core this process may use; same result for any)")
       ->check(CLI::Range(0, 4096));
   TimeIntegrationOptions& to = time_options;
+  // At the FE cascade's resonance (1100 Hz) the runs settle after 4700-4900 periods.
+  to.max_periods = 8000;
   verify->add_option("--time-steps", to.steps_per_period, "Time steps per period (default 256)")
       ->check(CLI::Range(8, 100000));
   verify
@@ -242,7 +247,7 @@ void DesignCommands::State::RegisterVerify(CLI::App& app) {
       ->check(CLI::Range(0, 1000000));
   verify
       ->add_option("--time-max-periods", to.max_periods,
-                   "Periods after which a run that has not settled stops (default 3000)")
+                   "Periods after which a run that has not settled stops (default 8000)")
       ->check(CLI::Range(1, 10000000));
   verify
       ->add_option("--time-tolerance", to.steady_tolerance,

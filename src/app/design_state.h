@@ -59,7 +59,7 @@ struct DesignCommands::State {
   std::vector<double> range;              // bounds --range LO HI [Hz]; empty: the case's range
   int anchor_every = 1;                   // bounds curve: BoundCurveOptions::anchor_every
   std::string neighbour_pass = "sweeps";  // bounds curve: BoundCurveOptions::neighbour_pass
-  int points = 41, steps = 44, sweep_steps = 44, samples = 60, ti_runs = 4;
+  int points = 41, steps = 44, sweep_steps = 44, samples = 200, ti_runs = 4;
   int scan_points = NoaOptions{}.scan_points;
   std::string param, noa_objective = "eta-gap";
   bool no_sweep = false, resume = false;
