@@ -73,6 +73,8 @@ def main():
     p.add_argument("--fricrom", default=os.path.join(ROOT, "build", "fricrom"))
     p.add_argument("--harmonics", type=int, default=None,
                    help="harmonics H of both models (default: each case's)")
+    p.add_argument("--search", default="default", choices=["quick", "default", "thorough"],
+                   help="the FE sweep's bound search preset (fricrom sweep --search)")
     a = p.parse_args()
     freqs = [float(f) for f in a.freqs.split(",")]
     if a.steps < 2 or not a.lo < a.hi or not all(f > 0 for f in freqs):
@@ -84,7 +86,7 @@ def main():
     for f in freqs:
         fe = run_json([a.fricrom, "sweep", a.case, "--param", "gamma", "--from", repr(a.lo), "--to",
                        repr(a.hi), "--steps", str(a.steps), "--freq", repr(f), "--json", "--quiet",
-                       *h_args, "--out", os.path.join(a.out, f"fe_sweep_{f:g}")],
+                       *h_args, "--search", a.search, "--out", os.path.join(a.out, f"fe_sweep_{f:g}")],
                       os.path.join(a.out, f"fe_sweep_{f:g}.json"))
         study["fe"][f"{f:g}"] = {k: fe[k] for k in ("values", "robustness", "y_min", "y_max",
                                                      "status", "wall_s")}

@@ -109,11 +109,11 @@ step fe_peak json "$FE_OUT/fe_peak.json" $FR bounds "$FE_CASE" --freq 1100 --sea
 step fe_verify json "$FE_OUT/fe_verify.json" $FR verify "$FE_CASE" --freq "$FE_REF" --alpha-samples 200 \
   --check-samples 200 --time-runs 3 --out "$FE_OUT/fe_verify"
 step fe_noa json "$FE_OUT/fe_noa.json" $FR noa "$FE_CASE" --param gamma --from 0 --to 0.3 --freq "$FE_REF" \
-  --noa-objective one-minus-r --no-sweep --out "$FE_OUT/fe_noa"
+  --noa-objective one-minus-r --no-sweep --search quick --out "$FE_OUT/fe_noa"
 step lump json "$FE_OUT/lump.json" $FR lump "$FE_CASE" --to "$FE_OUT/lumped.toml"
 step lumped_modes json "$FE_OUT/lumped_modes.json" $FR modes "$FE_OUT/lumped.toml"
 step lumped_bounds json "$FE_OUT/lumped_bounds.json" $FR bounds "$FE_OUT/lumped.toml" "${FE_RANGE[@]}" --out "$FE_OUT/lumped_bounds"
-step gamma_study $PY scripts/gamma_study.py --case "$FE_CASE" --freqs "$FE_REF" --from 0 --to 0.3 --steps 5 \
+step gamma_study $PY scripts/gamma_study.py --case "$FE_CASE" --freqs "$FE_REF" --from 0 --to 0.3 --steps 5 --search quick \
   --out "$FE_OUT/gamma_study" --figure "$FE_OUT/figures/r_gamma.png" --fricrom "$FR"
 $PY scripts/plot_lumped_vs_fe.py "$FE_OUT/fe_bounds/bounds.h5" "$FE_OUT/lumped_bounds/bounds.h5" \
   "$FE_OUT/figures/bounds_fe_vs_lumped.png" || true
