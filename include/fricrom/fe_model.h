@@ -72,14 +72,18 @@ struct FeNode {
   int displacement_system = 0;
 };
 
-// Rectangular system given by three points (Nastran CORD2R): origin A, a point B on z, a point C
-// in the x-z plane, all in system `reference`.
+// Coordinate system given by three points (Nastran CORD2R/CORD2C/CORD2S): origin A, a point B on
+// z, a point C in the x-z plane, all in system `reference`. type 'R' rectangular (x, y, z), 'C'
+// cylindrical (r, theta [deg], z), 'S' spherical (r, theta [deg] from z, phi [deg]). A CORD1R/C/S
+// (defined by grid points) is kept with by_grids = true so that a grid using it is refused by name.
 struct CoordinateSystem {
   int id = 0;
   int reference = 0;
   Eigen::Vector3d a = Eigen::Vector3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  char type = 'R';
+  bool by_grids = false;
 };
 
 // Named set of nodes from an input deck (Abaqus/CalculiX *NSET, *NODE NSET=); names upper-case.
@@ -128,6 +132,16 @@ FeModel ReadCalculix(const std::string& prefix, const FeReadOptions& options = {
 // of an Abaqus/CalculiX input deck, following *INCLUDE (relative to the including file); other
 // keywords and their data lines are skipped. Appended to `model`.
 void ReadInpNodesAndSets(const std::string& path, FeModel& model);
+// Nodes and node sets of a mesh deck, appended to `model` (ids it already has are kept): Nastran
+// bulk data by extension (.pch .bdf .dat .nas .blk .asm .bulk: GRID, CORD2R/C/S, SET1 as set
+// "SET1_<id>", ASET/ASET1 grids as set "ASET"; positions stay in their CP/CD systems until
+// ExpressInBasic) or an Abaqus/CalculiX deck (ReadInpNodesAndSets). A deck that adds neither a
+// node nor a set is an error.
+void ReadMeshDeck(const std::string& path, FeModel& model);
+// The DOF order of a matrix file that carries none (OP4, Matrix Market), in external_dofs: a CSV
+// (header node,component, one row per matrix row) or the EXTRN card of a Nastran punch/.asm,
+// whose GRID and CORD2R/C/S cards come along (nodes, systems). Errors name the file.
+FeModel ReadDofMap(const std::string& path);
 // Matrix Market coordinate real general/symmetric; DOF map from `dof_csv` (node,component rows)
 // when given.
 FeModel ReadMatrixMarket(const std::string& path, const std::string& dof_csv = "",

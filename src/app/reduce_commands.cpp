@@ -15,6 +15,7 @@
 
 #include "app/cli_common.h"
 #include "app/reduce_report.h"
+#include "fricrom/basic_frame.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/reduction.h"
 #include "fricrom/units.h"
@@ -167,8 +168,15 @@ struct ReduceCommands::State {
     const auto t_read = Clock::now();
     in->model = ReadFe(model_path);
     if (!mass_file.empty()) in->mass_model = ReadFe(mass_file);
-    if (!sets_file.empty()) ReadInpNodesAndSets(sets_file, in->model);
+    if (!sets_file.empty()) ReadMeshDeck(sets_file, in->model);
     if (!dofs_path.empty()) ApplyDofMap(in);
+    // Grids with CP/CD: positions and DOF directions in the basic frame before anything uses them
+    // (the reduced body is written in the basic frame).
+    try {
+      ExpressInBasic(&in->model, {&in->mass_model});
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("reduce", e.what());
+    }
     in->read_s = std::chrono::duration<double>(Clock::now() - t_read).count();
     in->k = &PickMatrix(in->model, stiffness_name, {"STIFFNESS", "KAAX", "KXX", "K"}, "--stiffness",
                         model_path);

@@ -395,6 +395,59 @@ bool HasNastranMatrixCards(const std::string& path) {
 
 }  // namespace
 
+void ReadMeshDeck(const std::string& path, FeModel& model) {
+  const std::string ext = LowerExtension(path);
+  const bool nastran = ext == ".pch" || ext == ".bdf" || ext == ".dat" || ext == ".nas" ||
+                       ext == ".blk" || ext == ".asm" || ext == ".bulk";
+  const size_t nodes = model.nodes.size(), sets = model.node_sets.size();
+  if (!nastran) {
+    ReadInpNodesAndSets(path, model);
+  } else {
+    // Grids, systems and sets only: the deck's matrices (DMIG) are not a mesh's business.
+    FeModel deck = ReadNastranPunch(path);
+    for (const FeNode& n : deck.nodes) {
+      if (!model.FindNode(n.id)) model.nodes.push_back(n);
+    }
+    model.systems.insert(model.systems.end(), deck.systems.begin(), deck.systems.end());
+    for (NodeSet& s : deck.node_sets) {
+      if (!model.FindNodeSet(s.name)) model.node_sets.push_back(std::move(s));
+    }
+  }
+  if (model.nodes.size() == nodes && model.node_sets.size() == sets) {
+    fe_text::Fail(path, 0,
+                  nastran ? "no GRID, SET1 or ASET card: a mesh from Nastran bulk data needs "
+                            "the grids (GRID, CORD2R/C/S) or node sets (SET1, ASET, ASET1)"
+                          : "no *NODE or *NSET: expected an Abaqus/CalculiX input deck with "
+                            "nodes or node sets (a Nastran deck is read by its extension: .pch, "
+                            ".bdf, .dat, .nas, .blk, .asm, .bulk)");
+  }
+}
+
+FeModel ReadDofMap(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".pch" || ext == ".bdf" || ext == ".dat" || ext == ".nas" || ext == ".blk" ||
+      ext == ".asm" || ext == ".bulk") {
+    FeModel deck = ReadNastranPunch(path);
+    if (deck.external_dofs.empty()) {
+      fe_text::Fail(path, 0,
+                    "no EXTRN card: a DOF map from Nastran bulk data is the EXTRN order of an "
+                    "external superelement (EXTSEOUT punch or .asm)");
+    }
+    deck.matrices.clear();
+    return deck;
+  }
+  if (ext != ".csv") {
+    fe_text::Fail(path, 0,
+                  "expected a DOF map: a CSV file (header node,component, one row per matrix "
+                  "row) or a Nastran punch with an EXTRN card (.pch, .asm, .bdf, .dat)");
+  }
+  FeModel map;
+  map.source = path;
+  map.format = "dof-csv";
+  map.external_dofs = fe_text::ReadDofCsv(path);
+  return map;
+}
+
 FeModel ReadFe(const std::string& path, const FeReadOptions& options) {
   const std::string ext = LowerExtension(path);
   if (ext == ".op4") return ReadOp4(path, options);

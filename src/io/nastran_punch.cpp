@@ -1,5 +1,6 @@
 // Nastran bulk data / punch (.pch) reader: DMIG matrices (small, large and free field), GRID,
-// GRDSET, CORD2R and EXTRN cards. Every other card is skipped (with its continuations).
+// GRDSET, CORD2R/C/S (CORD1* recorded by id), SET1/ASET/ASET1 node sets and EXTRN cards. Every
+// other card is skipped (with its continuations).
 // Format notes and the rules chosen here: docs/formats-nastran-punch.md. This file splits the
 // cards and reads their fields; nastran_punch_dmig.cpp assembles the DMIG matrices.
 #include <algorithm>
@@ -63,7 +64,7 @@ class PunchReader {
     Parse(text);
     if (dmigs_.empty() && grids_.empty() && extrn_.empty() && systems_.empty()) {
       FailAt(0,
-             "no DMIG, EXTRN, GRID or CORD2R card found: not a Nastran punch/bulk data file "
+             "no DMIG, EXTRN, GRID or CORD2R/C/S card found: not a Nastran punch/bulk data file "
              "fricrom can read");
     }
     return Build();
@@ -263,8 +264,14 @@ class PunchReader {
       if (grdset_cp_ < 0 || grdset_cp_ > kMaxId || grdset_cd_ < -1 || grdset_cd_ > kMaxId) {
         FailAt(c.line, "GRDSET: expected CP >= 0 and CD >= -1 (coordinate system ids)");
       }
-    } else if (c.name == "CORD2R") {
-      ProcessCord2r(c);
+    } else if (c.name == "CORD2R" || c.name == "CORD2C" || c.name == "CORD2S") {
+      ProcessCord2(c, c.name[5]);
+    } else if (c.name == "CORD1R" || c.name == "CORD1C" || c.name == "CORD1S") {
+      ProcessCord1(c);
+    } else if (c.name == "SET1") {
+      ProcessSet1(c);
+    } else if (c.name == "ASET" || c.name == "ASET1") {
+      ProcessAset(c);
     } else if (c.name == "EXTRN") {
       ProcessExtrn(c);
     }
@@ -398,14 +405,15 @@ class PunchReader {
     grids_.push_back(g);
   }
 
-  void ProcessCord2r(const Card& c) {
+  void ProcessCord2(const Card& c, char type) {
     CoordinateSystem s;
+    s.type = type;
     const int64_t id = Int(c, 0, "the coordinate system id CID");
     const int64_t ref = IntOr(c, 1, 0, "the reference system RID");
     constexpr int64_t kMaxId = std::numeric_limits<int>::max();
     if (id <= 0 || id > kMaxId || ref < 0 || ref > kMaxId) {
-      FailAt(c.line, "CORD2R: expected CID > 0 and RID >= 0, got " + std::to_string(id) + " and " +
-                         std::to_string(ref));
+      FailAt(c.line, c.name + ": expected CID > 0 and RID >= 0, got " + std::to_string(id) +
+                         " and " + std::to_string(ref));
     }
     s.id = static_cast<int>(id);
     s.reference = static_cast<int>(ref);
@@ -415,19 +423,109 @@ class PunchReader {
       s.c[i] = RealOr(c, 8 + i, 0.0, "a coordinate of point C");
     }
     const Eigen::Vector3d z = s.b - s.a, xz = s.c - s.a;
-    if (!(z.norm() > 0) || !(z.cross(xz).norm() > 1e-12 * z.norm() * xz.norm())) {
-      FailAt(c.line, "CORD2R " + std::to_string(s.id) +
+    // (Points given in a curvilinear reference are checked once resolved: BasicFrame.)
+    if (s.reference == 0 &&
+        (!(z.norm() > 0) || !(z.cross(xz).norm() > 1e-12 * z.norm() * xz.norm()))) {
+      FailAt(c.line, c.name + " " + std::to_string(s.id) +
                          ": degenerate system (expected B != A and C off the line A-B)");
     }
+    AddSystem(s, c);
+  }
+
+  // CORD1R/C/S: up to two systems per card, each by three grid ids. Recorded so that a grid
+  // using one is refused by name (BasicFrame) instead of reported as undefined.
+  void ProcessCord1(const Card& c) {
+    for (size_t k = 0; k < 8 && k < c.fields.size(); k += 4) {
+      if (k > 0 && c.Blank(k)) break;
+      const int64_t id = Int(c, k, "the coordinate system id CID");
+      if (id <= 0 || id > std::numeric_limits<int>::max()) {
+        FailAt(c.LineOf(k), c.name + ": expected CID > 0, got " + std::to_string(id));
+      }
+      CoordinateSystem s;
+      s.id = static_cast<int>(id);
+      s.type = c.name[5];
+      s.by_grids = true;
+      for (int i = 0; i < 3; ++i) s.a[i] = static_cast<double>(IntOr(c, k + 1 + i, 0, "a grid id"));
+      AddSystem(s, c);
+    }
+  }
+
+  void AddSystem(const CoordinateSystem& s, const Card& c) {
     for (const auto& [other, line] : systems_) {
       if (other.id != s.id) continue;
-      if (other.reference == s.reference && other.a == s.a && other.b == s.b && other.c == s.c) {
+      if (other.reference == s.reference && other.type == s.type && other.by_grids == s.by_grids &&
+          other.a == s.a && other.b == s.b && other.c == s.c) {
         return;  // the same card repeated (punch files repeat it per section)
       }
-      FailAt(c.line, "CORD2R " + std::to_string(s.id) + " defined twice with different data " +
-                         "(first on line " + std::to_string(line) + ")");
+      FailAt(c.line, c.name + " " + std::to_string(s.id) +
+                         " defined twice with different data (first on line " +
+                         std::to_string(line) + ")");
     }
     systems_.emplace_back(s, c.line);
+  }
+
+  // Grid ids of a set card from field `first` on: single ids and "A THRU B" ranges (a range
+  // keeps the grids of the file inside it, so a wide range allocates nothing).
+  void ReadIdList(const Card& c, size_t first, size_t step, punch::SetCard* set) {
+    for (size_t k = first; k < c.fields.size(); k += step) {
+      if (c.Blank(k)) continue;
+      if (Upper(c.Field(k)) == "THRU") {
+        if (set->ranges.empty() || k + 1 >= c.fields.size() || c.Blank(k + 1)) {
+          FailAt(c.LineOf(k),
+                 c.name + " " + Card::FieldName(k) + ": THRU needs an id before and after it");
+        }
+        const int64_t to = Int(c, k + 1, "the last id of a THRU range");
+        if (to < set->ranges.back().first) {
+          FailAt(c.LineOf(k + 1), c.name + ": THRU range ends at " + std::to_string(to) +
+                                      ", before its start " +
+                                      std::to_string(set->ranges.back().first));
+        }
+        set->ranges.back().second = to;
+        ++k;
+        continue;
+      }
+      const int64_t id = Int(c, k, "a grid id");
+      if (id <= 0) {
+        FailAt(c.LineOf(k), c.name + " " + Card::FieldName(k) + ": expected a grid id > 0, got " +
+                                std::to_string(id));
+      }
+      set->ranges.emplace_back(id, id);
+    }
+  }
+
+  // SET1 SID G1 G2 ... (THRU): node set "SET1_<SID>".
+  void ProcessSet1(const Card& c) {
+    const int64_t sid = Int(c, 0, "the set id SID");
+    punch::SetCard set;
+    set.name = "SET1_" + std::to_string(sid);
+    set.line = c.line;
+    ReadIdList(c, 1, 1, &set);
+    for (const punch::SetCard& o : sets_) {
+      if (o.name == set.name && o.ranges != set.ranges) {
+        FailAt(c.line, "SET1 " + std::to_string(sid) + " defined twice with different grids " +
+                           "(first on line " + std::to_string(o.line) + ")");
+      }
+    }
+    sets_.push_back(std::move(set));
+  }
+
+  // ASET ID1 C1 ID2 C2 ... and ASET1 C G1 G2 ... (THRU): the grids (not the scalar points,
+  // component 0) join node set "ASET", a superelement's boundary.
+  void ProcessAset(const Card& c) {
+    punch::SetCard set;
+    set.name = "ASET";
+    set.line = c.line;
+    if (c.name == "ASET1") {
+      const int64_t comp = IntOr(c, 0, 0, "the components C");
+      if (comp != 0) ReadIdList(c, 1, 1, &set);
+    } else {
+      for (size_t k = 0; k < c.fields.size(); k += 2) {
+        if (c.Blank(k)) continue;
+        const int64_t id = Int(c, k, "a grid id");
+        if (IntOr(c, k + 1, 0, "the components C") != 0) set.ranges.emplace_back(id, id);
+      }
+    }
+    sets_.push_back(std::move(set));
   }
 
   void ProcessExtrn(const Card& c) {
@@ -504,6 +602,7 @@ class PunchReader {
     std::stable_sort(systems_.begin(), systems_.end(),
                      [](const auto& a, const auto& b) { return a.first.id < b.first.id; });
     for (const auto& s : systems_) model.systems.push_back(s.first);
+    punch::BuildNodeSets(sets_, &model);
     return model;
   }
 
@@ -516,6 +615,7 @@ class PunchReader {
   std::vector<GridCard> grids_;
   int64_t grdset_cp_ = 0, grdset_cd_ = 0;
   std::vector<std::pair<CoordinateSystem, size_t>> systems_;
+  std::vector<punch::SetCard> sets_;
   std::vector<DofId> extrn_;
   std::vector<size_t> extrn_lines_;
 };

@@ -204,4 +204,31 @@ FeMatrix BuildDmig(const std::string& path, const Dmig& d, const std::vector<Dof
   return m;
 }
 
+void BuildNodeSets(const std::vector<SetCard>& sets, FeModel* model) {
+  for (const SetCard& set : sets) {
+    NodeSet* ns = nullptr;
+    for (NodeSet& n : model->node_sets) {
+      if (n.name == set.name) ns = &n;
+    }
+    if (!ns) {
+      model->node_sets.push_back({set.name, {}});
+      ns = &model->node_sets.back();
+    }
+    const auto add = [&](int64_t id) {
+      if (std::find(ns->nodes.begin(), ns->nodes.end(), id) == ns->nodes.end()) {
+        ns->nodes.push_back(id);
+      }
+    };
+    for (const auto& [lo, hi] : set.ranges) {
+      if (lo == hi) {
+        add(lo);
+        continue;
+      }
+      for (const FeNode& n : model->nodes) {
+        if (n.id >= lo && n.id <= hi) add(n.id);
+      }
+    }
+  }
+}
+
 }  // namespace fricrom::punch

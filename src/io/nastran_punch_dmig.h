@@ -42,4 +42,16 @@ ExtrnSorted SortExtrn(const std::string& path, const std::vector<DofId>& extrn,
 FeMatrix BuildDmig(const std::string& path, const Dmig& d, const std::vector<DofId>& extrn,
                    const ExtrnSorted& extrn_sorted, const FeReadOptions& options);
 
+// A node set card (SET1, ASET, ASET1): its grid ids as ranges [first, last].
+struct SetCard {
+  std::string name;
+  std::vector<std::pair<int64_t, int64_t>> ranges;
+  size_t line = 0;
+};
+
+// The node sets of the set cards (model->nodes read): sets of one name (ASET over several cards)
+// merge; an id listed singly is kept even without a GRID in the file, a THRU range keeps the
+// file's grids inside it (a wide range allocates nothing).
+void BuildNodeSets(const std::vector<SetCard>& sets, FeModel* model);
+
 }  // namespace fricrom::punch

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "assembly_parts.h"
+#include "fricrom/basic_frame.h"
 #include "fricrom/reduced_body.h"
 #include "fricrom/units.h"
 
@@ -53,52 +54,106 @@ struct BodyMatrices {
   Eigen::MatrixXd accel;  // unit-acceleration loads (body frame), 0x0 when unknown
 };
 
-// One matrix file of a body: exactly one square real matrix, with a DOF map.
-FeMatrix ReadBodyMatrix(const Reader& rd, const toml::table& t, const std::string& where,
-                        const std::string& key, const fs::path& base, const std::string& dof_map) {
-  const fs::path file = base / rd.String(t, where, key);
+// One matrix of a body, as read: `key = "file"` (a file holding one matrix) or `key = {file =
+// "f", matrix = "NAME"}` (one of a multi-matrix file: OP4, DMIG punch, ...). A square real matrix
+// with a DOF map: its own (DMIG, Abaqus, CalculiX, MM sidecar) or the body's dof_map.
+FeModel ReadBodyMatrix(const Reader& rd, const toml::table& t, const std::string& where,
+                       const std::string& key, const fs::path& base, const FeModel* dof_map) {
+  const toml::node* node = t.get(key);
+  const std::string w = where + "." + key;
+  std::string file_name;
+  FeReadOptions options;
+  if (node && node->is_table()) {
+    const toml::table& spec = *node->as_table();
+    rd.CheckKeys(spec, w, {"file", "matrix"});
+    file_name = rd.String(spec, w, "file");
+    options.only_matrix = rd.String(spec, w, "matrix");
+  } else {
+    file_name = rd.String(t, where, key);
+  }
+  const fs::path file = base / file_name;
   FeModel fe;
   try {
-    fe = dof_map.empty() ? ReadFe(file.string())
-                         : ReadMatrixMarket(file.string(), (base / dof_map).string());
+    fe = ReadFe(file.string(), options);
   } catch (const FeReadError& e) {
-    rd.Fail(where + "." + key, e.what(), t.get(key));
+    rd.Fail(w, e.what(), node);
   }
   if (fe.matrices.size() != 1) {
-    rd.Fail(where + "." + key,
-            file.string() + " holds " + std::to_string(fe.matrices.size()) +
-                " matrices; a body matrix file must hold exactly one",
-            t.get(key));
+    std::string names;
+    for (const FeMatrix& m : fe.matrices) names += (names.empty() ? "" : ", ") + m.name;
+    rd.Fail(w,
+            file.string() + " holds " + std::to_string(fe.matrices.size()) + " matrices (" + names +
+                "); name one: " + key + " = {file = \"" + file_name + "\", matrix = \"NAME\"}",
+            node);
   }
-  FeMatrix m = std::move(fe.matrices[0]);
+  FeMatrix& m = fe.matrices[0];
   if (m.rows != m.cols || m.is_complex) {
-    rd.Fail(where + "." + key, file.string() + ": expected a square real matrix", t.get(key));
+    rd.Fail(w,
+            file.string() + ": expected a square real matrix, " + m.name + " is " +
+                std::to_string(m.rows) + " x " + std::to_string(m.cols) +
+                (m.is_complex ? " complex" : ""),
+            node);
+  }
+  if (dof_map) {
+    const size_t n = dof_map->external_dofs.size();
+    if (static_cast<int64_t>(n) != m.rows) {
+      rd.Fail(w,
+              file.string() + ": matrix " + m.name + " has " + std::to_string(m.rows) +
+                  " rows, the dof_map " + dof_map->source + " " + std::to_string(n) + " DOFs",
+              node);
+    }
+    m.row_dofs = m.col_dofs = dof_map->external_dofs;
   }
   if (m.row_dofs.empty()) {
-    rd.Fail(
-        where + "." + key,
-        file.string() + " has no DOF map (give dof_map = \"file.csv\" with node,component rows)",
-        t.get(key));
+    rd.Fail(w,
+            file.string() + " has no DOF map: give dof_map = \"file.csv\" (header " +
+                "node,component, one row per matrix row) or the EXTRN punch of the superelement",
+            node);
   }
-  return m;
+  return fe;
 }
 
+// The matrix files of a body in the basic frame: the grids of its mesh and of the files
+// themselves (Nastran GRID CP/CD) place the nodes and turn the matrices' DOF directions; the
+// files' grids become the body's nodes when it has no mesh.
 BodyMatrices FromMatrixFiles(const Reader& rd, const toml::table& t, const std::string& where,
-                             const fs::path& base) {
-  const std::string dof_map = rd.StringOr(t, where, "dof_map", "");
-  std::vector<FeMatrix> km;
+                             const fs::path& base, FeModel* mesh) {
+  FeModel dof_map;
+  if (t.get("dof_map")) {
+    try {
+      dof_map = ReadDofMap((base / rd.String(t, where, "dof_map")).string());
+    } catch (const FeReadError& e) {
+      rd.Fail(where + ".dof_map", e.what(), t.get("dof_map"));
+    }
+  }
+  std::vector<FeModel> files;
   for (const char* key : {"stiffness", "mass", "damping"}) {
     if (std::string(key) == "damping" && !t.get("damping")) break;
-    km.push_back(ReadBodyMatrix(rd, t, where, key, base, dof_map));
-    if (km.back().row_dofs != km[0].row_dofs) {
+    files.push_back(ReadBodyMatrix(rd, t, where, key, base, t.get("dof_map") ? &dof_map : nullptr));
+    if (files.back().matrices[0].row_dofs != files[0].matrices[0].row_dofs) {
       rd.Fail(where + "." + key, "its DOF map differs from the stiffness matrix's", t.get(key));
     }
   }
+  std::vector<FeModel*> others;
+  for (FeModel& f : files) others.push_back(&f);
+  others.push_back(&dof_map);  // an EXTRN punch's grids (with their CP/CD) and systems
+  try {
+    ExpressInBasic(mesh, others);
+  } catch (const std::invalid_argument& e) {
+    rd.Fail(where, e.what(), &t);
+  }
+  if (mesh->nodes.empty()) {
+    for (const FeModel* f : others) {
+      for (const FeNode& n : f->nodes) {
+        if (!mesh->FindNode(n.id)) mesh->nodes.push_back(n);
+      }
+    }
+  }
   BodyMatrices b;
-  b.k = Eigen::MatrixXd(km[0].real);
-  b.m = Eigen::MatrixXd(km[1].real);
-  if (km.size() > 2) b.c = Eigen::MatrixXd(km[2].real);
-  b.dofs = km[0].row_dofs;
+  b.k = Eigen::MatrixXd(files[0].matrices[0].real);
+  b.m = Eigen::MatrixXd(files[1].matrices[0].real);
+  if (files.size() > 2) b.c = Eigen::MatrixXd(files[2].matrices[0].real);
+  b.dofs = files[0].matrices[0].row_dofs;
   // Full (unreduced) matrices: the acceleration load is M g exactly.
   b.accel = Eigen::MatrixXd::Zero(b.m.rows(), 3);
   for (int k = 0; k < 3; ++k) {
@@ -303,15 +358,24 @@ BodyMatrices ReadOneBody(const Reader& rd, const toml::table& t, const std::stri
   if (t.get("mesh")) {
     const std::string mesh = (base / rd.String(t, where, "mesh")).string();
     try {
-      ReadInpNodesAndSets(mesh, b->mesh);
+      ReadMeshDeck(mesh, b->mesh);
     } catch (const FeReadError& e) {
       rd.Fail(where + ".mesh", e.what(), t.get("mesh"));
     }
     rb->insert("mesh", rd.String(t, where, "mesh"));
   }
   BodyMatrices m;
+  if (!t.get("stiffness")) {
+    // Reduced bodies are in the basic frame already (reduce and fe = apply CP/CD); the mesh's
+    // own grids give positions.
+    try {
+      ExpressInBasic(&b->mesh);
+    } catch (const std::invalid_argument& e) {
+      rd.Fail(where + ".mesh", e.what(), t.get("mesh"));
+    }
+  }
   if (t.get("stiffness")) {
-    m = FromMatrixFiles(rd, t, where, base);
+    m = FromMatrixFiles(rd, t, where, base, &b->mesh);
   } else if (t.get("reduced")) {
     const std::string file = (base / rd.String(t, where, "reduced")).string();
     try {
@@ -400,7 +464,13 @@ std::vector<AssemblyBody> ReadAssemblyBodies(const Reader& rd, const toml::table
     n += static_cast<int>(b.dofs.size());
     rb.insert("dofs", static_cast<int64_t>(b.dofs.size()));
     for (const char* key : {"stiffness", "mass", "damping", "dof_map"}) {
-      if (t.get(key)) rb.insert(key, rd.String(t, where, key));
+      if (const toml::node* v = t.get(key)) {
+        if (v->is_table()) {
+          rb.insert(key, *v->as_table());
+        } else {
+          rb.insert(key, rd.String(t, where, key));
+        }
+      }
     }
     resolved->push_back(std::move(rb));
     bodies.push_back(std::move(b));

@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "fricrom/basic_frame.h"
 #include "fricrom/reduced_body.h"
 #include "io/content_hash.h"
 #include "io/hdf5_file.h"
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped whenever the reduction or the file layout changes what a cached body holds.
-constexpr const char* kCacheVersion = "fricrom-reduced-body-cache-1 fricrom-reduced-model-1";
+constexpr const char* kCacheVersion = "fricrom-reduced-body-cache-2 fricrom-reduced-model-1";
 
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -120,7 +121,9 @@ ReducedBody ReduceFromFiles(const FeBodySpec& spec, const ReduceFeBodyOptions& o
   FeModel model = ReadFe(spec.stiffness_file);
   FeModel mass_model;
   if (!spec.mass_file.empty()) mass_model = ReadFe(spec.mass_file);
-  if (!spec.sets_file.empty()) ReadInpNodesAndSets(spec.sets_file, model);
+  if (!spec.sets_file.empty()) ReadMeshDeck(spec.sets_file, model);
+  // Positions and DOF directions of grids with CP/CD in the basic frame, before anything uses them.
+  ExpressInBasic(&model, {&mass_model});
   const FeMatrix& k =
       PickMatrix(model, {"STIFFNESS", "KAAX", "KXX", "K"}, "stiffness", spec.stiffness_file);
   const std::string mass_path = spec.mass_file.empty() ? spec.stiffness_file : spec.mass_file;

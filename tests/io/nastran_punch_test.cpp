@@ -437,3 +437,36 @@ TEST(NastranPunchErrors, MissingFile) {
 }
 
 }  // namespace
+
+namespace {
+
+// Node sets from Nastran bulk data: ASET grids (not its scalar points) of the EXTSEOUT punch, and
+// SET1 with single ids and a THRU range that keeps the deck's grids inside it.
+TEST(NastranPunch, SetCardsBecomeNodeSets) {
+  const FeModel se = fricrom::ReadNastranPunch(kFixtures + "extseout/inboard.pch");
+  const fricrom::NodeSet* aset = se.FindNodeSet("ASET");
+  ASSERT_NE(aset, nullptr);
+  EXPECT_EQ(aset->nodes, (std::vector<int64_t>{3, 11, 19, 27}));
+  TempDir dir;
+  const std::string deck = dir.Path("sets.bdf");
+  std::ofstream(deck) << "BEGIN BULK\n"
+                         "GRID,5,,0.,0.,0.\nGRID,7,,1.,0.,0.\nGRID,9,,2.,0.,0.\n"
+                         "GRID,400,,3.,0.,0.\n"
+                         "SET1,12,9,5\nSET1,13,6,THRU,100000000\n"
+                         "CORD2C,3,0,0.,0.,0.,0.,0.,1.\n,1.,0.,0.\nENDDATA\n";
+  FeModel mesh;
+  fricrom::ReadMeshDeck(deck, mesh);
+  ASSERT_EQ(mesh.nodes.size(), 4u);
+  ASSERT_NE(mesh.FindNodeSet("SET1_12"), nullptr);
+  EXPECT_EQ(mesh.FindNodeSet("SET1_12")->nodes, (std::vector<int64_t>{9, 5}));
+  EXPECT_EQ(mesh.FindNodeSet("SET1_13")->nodes, (std::vector<int64_t>{7, 9, 400}));
+  ASSERT_EQ(mesh.systems.size(), 1u);
+  EXPECT_EQ(mesh.systems[0].type, 'C');
+  // A Nastran deck with nothing a mesh needs is an error, not an empty mesh.
+  const std::string empty = dir.Path("empty.pch");
+  std::ofstream(empty) << "CORD2R,3,0,0.,0.,0.,0.,0.,1.\n,1.,0.,0.\n";
+  FeModel none;
+  ExpectError([&] { fricrom::ReadMeshDeck(empty, none); }, {"empty.pch", "no GRID, SET1 or ASET"});
+}
+
+}  // namespace
