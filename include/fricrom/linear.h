@@ -13,9 +13,13 @@ namespace fricrom {
 struct ModalResult {
   Eigen::VectorXd frequencies_hz;  // ascending
   Eigen::MatrixXd shapes;          // mass-normalised, one column per mode
+  // Directions without mass (M positive semi-definite): no finite frequency, not among the modes.
+  int massless = 0;
 };
 
-// Undamped modes of (K, M); throws std::invalid_argument if M is not positive definite.
+// Undamped modes of (K, M). M may be positive semi-definite (an exporter's superelement mass):
+// its massless directions are counted, not listed. Throws std::invalid_argument if M has a
+// negative eigenvalue beyond round-off.
 ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
 ModalResult FreeSystemModes(const Model& model);   // blades only: model.free_dofs
 ModalResult StickSystemModes(const Model& model);  // all bodies, contacts as kn/kt springs

@@ -52,6 +52,8 @@ int RunModes(const CaseArgs& args, bool as_json) {
                                         stick.frequencies_hz.data() + stick.frequencies_hz.size());
     j["free_dofs"] = free.frequencies_hz.size();
     j["stick_dofs"] = stick.frequencies_hz.size();
+    j["free_massless"] = free.massless;
+    j["stick_massless"] = stick.massless;
     std::cout << j.dump() << "\n";
     return 0;
   }
@@ -66,6 +68,10 @@ int RunModes(const CaseArgs& args, bool as_json) {
     }
     std::cout << "  " << std::setw(11) << std::fixed << std::setprecision(2)
               << stick.frequencies_hz[i] << "\n";
+  }
+  if (free.massless + stick.massless > 0) {
+    std::cout << "  directions without mass (a semi-definite mass; no finite frequency): "
+              << free.massless << " free, " << stick.massless << " full-stick\n";
   }
   return 0;
 }

@@ -19,19 +19,66 @@ std::vector<int> AllDofs(const Model& model) {
 
 }  // namespace
 
+namespace {
+
+// Eigenvalues of M relative to its largest below this are massless directions (round-off of an
+// exporter's semi-definite mass: the EXTSEOUT superelement's smallest is -7e-12 of 1).
+constexpr double kMassless = 1e-9;
+
+// Modes of (K, M) with M positive semi-definite: M φ = μ (K + σM) φ, whose μ are bounded, and
+// λ = 1/μ − σ; the directions with μ ≈ 0 have no mass and no finite frequency. σ > 0 always: a
+// free body's K passes a Cholesky test on round-off, and its rigid modes' μ = 1/round-off would
+// swamp the massless threshold.
+bool SemiDefiniteModes(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m, ModalResult* out) {
+  const double m_scale = m.cwiseAbs().maxCoeff(), k_scale = k.cwiseAbs().maxCoeff();
+  if (!(m_scale > 0)) return false;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> mass_eigen(m, Eigen::EigenvaluesOnly);
+  if (mass_eigen.eigenvalues().minCoeff() < -kMassless * mass_eigen.eigenvalues().maxCoeff()) {
+    return false;  // indefinite: not a mass
+  }
+  for (double sigma : {1e-3 * k_scale / m_scale, k_scale / m_scale}) {
+    const Eigen::MatrixXd shifted = k + sigma * m;
+    if (Eigen::LLT<Eigen::MatrixXd>(shifted).info() != Eigen::Success) continue;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(m, shifted);
+    if (solver.info() != Eigen::Success) continue;
+    const Eigen::VectorXd& mu = solver.eigenvalues();  // ascending: the largest μ is the lowest λ
+    const double mu_max = mu.maxCoeff();
+    std::vector<int> kept;
+    for (int i = static_cast<int>(mu.size()) - 1; i >= 0; --i) {
+      if (mu[i] > kMassless * mu_max) kept.push_back(i);
+    }
+    out->massless = static_cast<int>(mu.size() - kept.size());
+    out->frequencies_hz.resize(static_cast<Eigen::Index>(kept.size()));
+    out->shapes.resize(m.rows(), static_cast<Eigen::Index>(kept.size()));
+    for (size_t j = 0; j < kept.size(); ++j) {
+      const Eigen::Index c = static_cast<Eigen::Index>(j);
+      out->frequencies_hz[c] = HzFromEigenvalue(1.0 / mu[kept[j]] - sigma);
+      // (K + σM)-normalised φ has φᵀMφ = μ: mass-normalise.
+      out->shapes.col(c) = solver.eigenvectors().col(kept[j]) / std::sqrt(mu[kept[j]]);
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass) {
   if (stiffness.rows() != mass.rows() || stiffness.cols() != mass.cols() ||
       stiffness.rows() != stiffness.cols()) {
     throw std::invalid_argument("ComputeModes: K and M must be square and of equal size");
   }
+  ModalResult result;
   if (Eigen::LLT<Eigen::MatrixXd>(mass).info() != Eigen::Success) {
-    throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");
+    if (SemiDefiniteModes(stiffness, mass, &result)) return result;
+    throw std::invalid_argument(
+        "ComputeModes: the mass matrix is not positive semi-definite (a negative eigenvalue "
+        "beyond round-off)");
   }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(stiffness, mass);
   if (solver.info() != Eigen::Success) {
-    throw std::invalid_argument("ComputeModes: mass matrix is not positive definite");
+    throw std::invalid_argument("ComputeModes: the generalized eigenproblem (K, M) failed");
   }
-  ModalResult result;
   result.frequencies_hz = solver.eigenvalues().unaryExpr(&HzFromEigenvalue);
   result.shapes = solver.eigenvectors();
   return result;

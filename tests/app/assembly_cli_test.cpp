@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -100,6 +101,38 @@ TEST(AssemblyCli, VerifyTimeIntegratesTheFeCascadeInsideTheBounds) {
     EXPECT_LE(y, 1.02 * hi);
     EXPECT_TRUE(r.at("inside").get<bool>());
   }
+}
+
+}  // namespace
+
+namespace {
+
+// The Nastran EXTSEOUT route (docs/exporters.md): OP4 matrices named from the multi-matrix file,
+// the DOF order and grids (one in CD = 10) from the EXTRN punch, a semi-definite superelement
+// mass; modes, frf and bounds run end to end with finite numbers.
+TEST(AssemblyCli, NastranSuperelementPairRunsEveryCommand) {
+  TempDir tmp;
+  const std::string c =
+      Quote(std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/extseout_pair.toml");
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun modes = Stdout("modes " + c + " --json");
+  ASSERT_EQ(modes.exit_code, 0) << modes.output;
+  const json m = json::parse(modes.output);
+  // 2 x 32 DOFs: the blade's 32 free, each superelement's mass with one massless direction.
+  EXPECT_EQ(m.at("free_dofs").get<int>() + m.at("free_massless").get<int>(), 32);
+  EXPECT_EQ(m.at("stick_dofs").get<int>() + m.at("stick_massless").get<int>(), 64);
+  EXPECT_GE(m.at("stick_massless").get<int>(), 1);
+  for (const auto& f : m.at("stick_hz")) EXPECT_TRUE(std::isfinite(f.get<double>()));
+  // The grounded pair's lowest full-stick modes are the springs' (about 4.1 Hz).
+  EXPECT_NEAR(m.at("stick_hz")[0].get<double>(), 4.09, 0.02);
+  const CliRun frf = Stdout("frf " + c + " --freq 4.1 --json" + out);
+  ASSERT_EQ(frf.exit_code, 0) << frf.output;
+  const CliRun bounds = Stdout("bounds " + c + " --freq 4.1 --json" + out);
+  ASSERT_EQ(bounds.exit_code, 0) << bounds.output;
+  const json b = json::parse(bounds.output);
+  EXPECT_EQ(b.at("status"), "converged");
+  EXPECT_GT(b.at("y_max").get<double>(), 1e-5);
+  EXPECT_LE(b.at("y_min").get<double>(), b.at("y_max").get<double>());
 }
 
 }  // namespace

@@ -1,9 +1,10 @@
+#include "fricrom/linear.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "fricrom/linear.h"
 #include "test_models.h"
 
 namespace fricrom {
@@ -11,8 +12,8 @@ namespace {
 
 // Paper, Table 3.
 const double kFreeHz[] = {87.17, 87.17, 159.15, 159.15, 246.56, 246.56};
-const double kStickHz[] = {84.58, 84.58, 168.19, 168.19, 266.89, 266.89,
-                           396.71, 396.71, 406.88, 406.88};
+const double kStickHz[] = {84.58,  84.58,  168.19, 168.19, 266.89,
+                           266.89, 396.71, 396.71, 406.88, 406.88};
 
 TEST(Linear, Table3FreeAndFullStickFrequencies) {
   const Case cs = testing::LoadBaseline();
@@ -43,7 +44,8 @@ TEST(Linear, ModesAreMassNormalisedEigenpairs) {
   const Eigen::VectorXd w2 = (2 * std::numbers::pi * r.frequencies_hz).array().square();
   const Eigen::MatrixXd resid = k * phi - cs.model.mass * phi * w2.asDiagonal();
   EXPECT_LE(resid.norm(), 1e-8 * k.norm());
-  EXPECT_LE((phi.transpose() * cs.model.mass * phi - Eigen::MatrixXd::Identity(10, 10)).norm(), 1e-10);
+  EXPECT_LE((phi.transpose() * cs.model.mass * phi - Eigen::MatrixXd::Identity(10, 10)).norm(),
+            1e-10);
 }
 
 TEST(Linear, ResponsePeaksAtTheTargetModes) {
@@ -62,6 +64,34 @@ TEST(Linear, RejectsMismatchedMatrices) {
   EXPECT_THROW(ComputeModes(Eigen::MatrixXd::Identity(3, 3), Eigen::MatrixXd::Identity(2, 2)),
                std::invalid_argument);
   EXPECT_THROW(ComputeModes(Eigen::MatrixXd::Identity(2, 2), -Eigen::MatrixXd::Identity(2, 2)),
+               std::invalid_argument);
+}
+
+// A chain of three springs with a massless middle node: the finite modes are those of the
+// statically condensed 2-DOF system (Guyan is exact for a massless DOF); the free-free chain
+// (rigid mode at 0 Hz) takes the shifted route. Mass-normalised shapes.
+TEST(Linear, ASemiDefiniteMassGivesTheCondensedModes) {
+  for (double ground : {1.0, 0.0}) {
+    Eigen::Matrix3d k;
+    k << 2 + ground, -2, 0, -2, 5, -3, 0, -3, 3 + ground;
+    const Eigen::Matrix3d m = Eigen::Vector3d(1.5, 0.0, 0.5).asDiagonal();
+    const ModalResult r = ComputeModes(k, m);
+    EXPECT_EQ(r.massless, 1);
+    ASSERT_EQ(r.frequencies_hz.size(), 2);
+    // Condensed: K_c = K_aa - K_ab K_bb^-1 K_ba over DOFs 0 and 2.
+    Eigen::Matrix2d kc, mc;
+    kc << k(0, 0) - k(0, 1) * k(1, 0) / k(1, 1), k(0, 2) - k(0, 1) * k(1, 2) / k(1, 1),
+        k(2, 0) - k(2, 1) * k(1, 0) / k(1, 1), k(2, 2) - k(2, 1) * k(1, 2) / k(1, 1);
+    mc << 1.5, 0, 0, 0.5;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> want(kc, mc);
+    for (int i = 0; i < 2; ++i) {
+      const double f = std::sqrt(std::max(want.eigenvalues()[i], 0.0)) / (2 * M_PI);
+      EXPECT_NEAR(r.frequencies_hz[i], f, 1e-9 * (1 + f)) << "ground " << ground << " mode " << i;
+      EXPECT_NEAR(r.shapes.col(i).dot(m * r.shapes.col(i)), 1.0, 1e-9);
+    }
+  }
+  // Indefinite is not a mass.
+  EXPECT_THROW(ComputeModes(Eigen::Matrix2d::Identity(), Eigen::Vector2d(1, -1).asDiagonal()),
                std::invalid_argument);
 }
 
