@@ -87,6 +87,7 @@ struct FrfArgs {
   bool quiet = false;
   double max_step = 0.02;
   int linear_points = 400;
+  bool linear_references = false;  // the figure's reference curves without a figure
 };
 
 // The α of the FRF: the case's, or --alpha (one value per α, each in [-1, 1]).
@@ -163,16 +164,21 @@ std::string RegimeName(const FrfPoint& p, size_t k) {
 
 void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& system,
                   const Eigen::VectorXd& alpha, const FrfRun& run, int linear_points) {
-  // Linear references over the case range, for figures.
+  // Linear references over the case range, for figures (0 points: none; on an FE assembly they
+  // cost far more than a few nonlinear points).
   std::vector<double> lf(linear_points);
   for (int i = 0; i < linear_points; ++i) {
     lf[i] = c.analysis.freq_min_hz +
             (c.analysis.freq_max_hz - c.analysis.freq_min_hz) * i / (linear_points - 1);
   }
   const std::vector<double> free_amp =
-      LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
+      lf.empty()
+          ? std::vector<double>{}
+          : LinearResponseAmplitude(c.model, LinearSystemKind::kFree, lf, c.analysis.receptance);
   const std::vector<double> stick_amp =
-      LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
+      lf.empty()
+          ? std::vector<double>{}
+          : LinearResponseAmplitude(c.model, LinearSystemKind::kStick, lf, c.analysis.receptance);
   const std::vector<FrfPoint>& points = run.points;
   Hdf5Writer h5(path);
   CommonAttributes(h5, c, "frf");
@@ -205,7 +211,12 @@ void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& sy
   h5.Strings("frf/contacts", c.contact_names);
   h5.Strings("frf/dof_names", c.model.dof_names);
   h5.Attribute("frf", "x_layout",
-               "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all DOFs");
+               c.analysis.balance == BalanceKind::kCondensed
+                   ? "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block the "
+                     "contacts' relative displacements (tangential and normal rows) then the "
+                     "response DOF (condensed balance)"
+                   : "row = point; columns = [q0 | a1 | b1 | ... | aH | bH], each block all "
+                     "DOFs in dof_names order");
   h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
   std::ostringstream label;
   label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
@@ -215,9 +226,11 @@ void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& sy
   h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
   h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
   h5.Attribute("frf", "wall_s", run.wall_s);
-  h5.Vector("linear/freq_hz", lf);
-  h5.Vector("linear/free_amplitude_m", free_amp);
-  h5.Vector("linear/stick_amplitude_m", stick_amp);
+  if (!lf.empty()) {
+    h5.Vector("linear/freq_hz", lf);
+    h5.Vector("linear/free_amplitude_m", free_amp);
+    h5.Vector("linear/stick_amplitude_m", stick_amp);
+  }
   h5.Commit();
 }
 
@@ -312,7 +325,8 @@ int RunFrf(const CaseArgs& cargs, const FrfArgs& a) {
   const fs::path out_dir = a.out.empty() ? fs::path("results") / c.name : fs::path(a.out);
   fs::create_directories(out_dir);
   FrfFiles files{out_dir / "frf.h5", out_dir / "frf.csv", out_dir / "frf.png"};
-  WriteFrfHdf5(files.h5, c, *balance, alpha, run, a.linear_points);
+  WriteFrfHdf5(files.h5, c, *balance, alpha, run,
+               a.plot || a.linear_references ? a.linear_points : 0);
   WriteFrfCsv(files.csv, c, run);
   if (a.plot) {
     const std::string cmd = "/usr/bin/python3 '" + std::string(FRICROM_SOURCE_DIR) +
@@ -436,6 +450,9 @@ struct BasicCommands {
         ->check(Positive());
     frf->add_flag("--json", fa.as_json, "Print one JSON object on stdout");
     frf->add_flag("--plot", fa.plot, "Draw the FRF figure (PNG) with the linear references");
+    frf->add_flag("--linear-references", fa.linear_references,
+                  "Also write the linear free and full-stick response over the case range (400 "
+                  "points) into frf.h5, as --plot does");
     frf->add_flag("--normalise", fa.normalise, "Normalise the figure by the full-stick peak");
     frf->add_flag("--quiet", fa.quiet, "Print nothing but errors");
 

@@ -309,10 +309,10 @@ void CheckBodyMatrix(const Reader& rd, const std::string& where, const std::stri
   const double largest = a.cwiseAbs().maxCoeff();
   const std::string of = std::string(what) + " matrix of body '" + body + "'";
   if (!std::isfinite(largest) || largest > kLargestEntry) {
-    rd.Fail(where,
-            "the " + of + " has an entry of magnitude " + std::to_string(largest) +
-                " (at most 1e150: larger ones overflow double precision)",
-            node);
+    std::ostringstream s;
+    s << "the " << of << " has an entry of magnitude " << largest
+      << " (at most 1e150: larger ones overflow double precision)";
+    rd.Fail(where, s.str(), node);
   }
   const double asym = (a - a.transpose()).cwiseAbs().maxCoeff();
   if (asym > kAsymmetry * largest) {
@@ -412,6 +412,16 @@ BodyMatrices ReadOneBody(const Reader& rd, const toml::table& t, const std::stri
     }
     rb->insert("ground_stiffness", kg);
   }
+  if (t.get("ground_rotation_stiffness")) {
+    // The same on every rotational DOF (4-6) [N m/rad]: a beam's or shell's free torsion.
+    const double kr = rd.NonNegative(t, where, "ground_rotation_stiffness");
+    for (size_t d = 0; d < m.dofs.size(); ++d) {
+      if (m.dofs[d].component >= 4 && m.dofs[d].component <= 6) {
+        m.k(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(d)) += kr;
+      }
+    }
+    rb->insert("ground_rotation_stiffness", kr);
+  }
   return m;
 }
 
@@ -427,9 +437,10 @@ std::vector<AssemblyBody> ReadAssemblyBodies(const Reader& rd, const toml::table
   for (size_t i = 0; i < arr.size(); ++i) {
     const std::string where = "bodies[" + std::to_string(i) + "]";
     const toml::table& t = TableAt(rd, arr, i, where);
-    rd.CheckKeys(t, where,
-                 {"name", "role", "stiffness", "mass", "damping", "dof_map", "reduced", "fe",
-                  "mesh", "translate", "rotate", "rayleigh", "ground_stiffness"});
+    rd.CheckKeys(
+        t, where,
+        {"name", "role", "stiffness", "mass", "damping", "dof_map", "reduced", "fe", "mesh",
+         "translate", "rotate", "rayleigh", "ground_stiffness", "ground_rotation_stiffness"});
     AssemblyBody b;
     b.name = rd.String(t, where, "name");
     for (const AssemblyBody& o : bodies) {

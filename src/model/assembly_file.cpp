@@ -16,6 +16,9 @@
 namespace fricrom::detail {
 namespace {
 
+// A stiffness pivot below this fraction of the largest is a free motion (round-off of zero).
+constexpr double kFreeMotion = 1e-11;
+
 namespace fs = std::filesystem;
 
 // {body = "...", node = N} -> the body; node checked to exist.
@@ -46,7 +49,9 @@ void ReadContacts(const Reader& rd, const toml::table& root,
     Contact c;
     c.name = rd.String(t, where, "name");
     for (const Contact& o : cs->model.contacts) {
-      if (o.name == c.name) rd.Fail(where + ".name", "duplicate contact name", t.get("name"));
+      if (o.name == c.name) {
+        rd.Fail(where + ".name", "duplicate contact name '" + c.name + "'", t.get("name"));
+      }
     }
     int64_t na = 0, nb = 0;
     for (const char* side : {"a", "b"}) {
@@ -59,6 +64,17 @@ void ReadContacts(const Reader& rd, const toml::table& root,
     // Component by component: g++ 12 (-march=x86-64-v3) warns on a Vector3d -> VectorXd copy.
     const Eigen::Vector3d normal = Vector3(rd, t, where, "normal");
     const Eigen::Vector3d tangent = Vector3(rd, t, where, "tangent");
+    for (const auto& [key, v] : {std::pair{"normal", normal}, std::pair{"tangent", tangent}}) {
+      if (std::abs(v.norm() - 1.0) > 1e-9) {
+        rd.Fail(where + "." + key,
+                "expected a unit vector, got one of length " + std::to_string(v.norm()),
+                t.get(key));
+      }
+    }
+    if (std::abs(normal.dot(tangent)) > 1e-9) {
+      rd.Fail(where + ".tangent", "expected a direction orthogonal to the normal",
+              t.get("tangent"));
+    }
     c.normal = Eigen::VectorXd{{normal[0], normal[1], normal[2]}};
     c.tangent = Eigen::VectorXd{{tangent[0], tangent[1], tangent[2]}};
     for (int d = 0; d < 3; ++d) {
@@ -232,6 +248,37 @@ void ReadResponse(const Reader& rd, const toml::table& root,
   m->response_dof = DofAt(rd, b, node, Component(rd, t, "response"), "response", t);
 }
 
+// Directions of zero stiffness of a symmetric positive semi-definite K: LDLᵀ pivots (with
+// pivoting) at round-off of the largest.
+int ZeroStiffness(const Eigen::MatrixXd& k) {
+  if (k.size() == 0) return 0;
+  const Eigen::VectorXd d = Eigen::LDLT<Eigen::MatrixXd>(k).vectorD().cwiseAbs();
+  const double largest = d.maxCoeff();
+  int zero = 0;
+  for (Eigen::Index i = 0; i < d.size(); ++i) zero += !(d[i] > kFreeMotion * largest);
+  return zero;
+}
+
+// The assembly with every contact stuck must be held: a free motion leaves the static state
+// (harmonic 0) undetermined and every solve diverges. An error naming the bodies and the keys.
+void CheckHeld(const Reader& rd, const std::vector<AssemblyBody>& bodies, const Model& model) {
+  const int free = ZeroStiffness(model.stiffness + ContactStickStiffness(model));
+  if (free == 0) return;
+  std::string own;
+  for (const AssemblyBody& b : bodies) {
+    const Eigen::Index n = static_cast<Eigen::Index>(b.dofs.size());
+    const int z = ZeroStiffness(model.stiffness.block(b.offset, b.offset, n, n));
+    if (z > 0) own += (own.empty() ? "" : ", ") + b.name + " " + std::to_string(z);
+  }
+  rd.Fail("bodies",
+          "with every contact stuck the assembly has " + std::to_string(free) +
+              " direction(s) of zero stiffness (free motion: the static state is undetermined)" +
+              (own.empty() ? "" : "; the bodies' own: " + own) +
+              ". Hold the free bodies: ground_stiffness [N/m] on translations, "
+              "ground_rotation_stiffness [N m/rad] on rotations, or boundary conditions in the "
+              "exported matrices");
+}
+
 }  // namespace
 
 Case ParseAssembly(const toml::table& root, const std::string& source_name,
@@ -258,6 +305,7 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
   ReadLoads(rd, root, bodies, &cs.model);
   ReadAccelerations(rd, root, bodies, &cs.model, &raccel);
   ReadResponse(rd, root, bodies, &cs.model);
+  CheckHeld(rd, bodies, cs.model);
   resolved.insert("bodies", std::move(rbodies));
   if (!rcontacts.empty()) resolved.insert("contacts", std::move(rcontacts));
   if (!rinterfaces.empty()) resolved.insert("interfaces", std::move(rinterfaces));

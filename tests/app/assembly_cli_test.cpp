@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "app/cli_test_util.h"
+#include "io/hdf5_file.h"
 
 namespace {
 
@@ -133,6 +136,74 @@ TEST(AssemblyCli, NastranSuperelementPairRunsEveryCommand) {
   EXPECT_EQ(b.at("status"), "converged");
   EXPECT_GT(b.at("y_max").get<double>(), 1e-5);
   EXPECT_LE(b.at("y_min").get<double>(), b.at("y_max").get<double>());
+}
+
+}  // namespace
+
+namespace {
+
+// The Abaqus route (docs/exporters.md): *MATRIX GENERATE stiffness and mass of a B33 beam with
+// its deck, two beams end to end with a node contact; held in torsion by
+// ground_rotation_stiffness. Without it the case is an error naming both bodies.
+TEST(AssemblyCli, AbaqusBeamPairRunsEveryCommandAndAFreeOneIsAnError) {
+  TempDir tmp;
+  const std::string file =
+      std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/abaqus_beams.toml";
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun modes = Stdout("modes " + Quote(file) + " --json");
+  ASSERT_EQ(modes.exit_code, 0) << modes.output;
+  const json m = json::parse(modes.output);
+  EXPECT_GT(m.at("stick_hz")[0].get<double>(), 0.5);  // every direction held
+  const CliRun frf = Stdout("frf " + Quote(file) + " --freq 1 --json" + out);
+  ASSERT_EQ(frf.exit_code, 0) << frf.output;
+  const CliRun bounds = Stdout("bounds " + Quote(file) + " --freq 1 --json" + out);
+  ASSERT_EQ(bounds.exit_code, 0) << bounds.output;
+  EXPECT_EQ(json::parse(bounds.output).at("status"), "converged");
+
+  // The same case without the rotational springs: the beams' torsion is free.
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  for (size_t at; (at = toml.find("ground_rotation_stiffness = 1e3\n")) != std::string::npos;) {
+    toml.erase(at, std::string("ground_rotation_stiffness = 1e3\n").size());
+  }
+  const std::string free_case = tmp.path().string() + "/free.toml";
+  // Paths relative to the example's folder: absolute ones here.
+  for (size_t at; (at = toml.find("../../tests/")) != std::string::npos;) {
+    toml.replace(at, 12, std::string(FRICROM_SOURCE_DIR) + "/tests/");
+  }
+  std::ofstream(free_case) << toml;
+  const CliRun err = fricrom::testing::Stderr("modes " + Quote(free_case));
+  EXPECT_EQ(err.exit_code, 2) << err.output;
+  for (const char* w : {"zero stiffness", "beam1 1", "beam2 1", "ground_rotation_stiffness"}) {
+    EXPECT_NE(err.output.find(w), std::string::npos) << w << "\n" << err.output;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// `frf` computes the 400-point linear references only where a figure or a flag asks for them;
+// the x layout attribute says what the condensed balance stores.
+TEST(AssemblyCli, FrfWritesLinearReferencesOnlyWhenAsked) {
+  TempDir tmp;
+  const std::string c = Quote(kDir + "as_fe/case.toml");
+  const std::string out = " --out " + Quote(tmp.path().string());
+  ASSERT_EQ(Stdout("frf " + c + " --freq 262 --quiet" + out).exit_code, 0);
+  {
+    const fricrom::Hdf5Reader h5((tmp.path() / "frf.h5").string());
+    EXPECT_FALSE(h5.Has("linear"));
+    EXPECT_TRUE(h5.Has("frf/x"));
+    EXPECT_NE(h5.StringAttribute("frf", "x_layout").find("relative displacements"),
+              std::string::npos);
+  }
+  ASSERT_EQ(Stdout("frf " + c + " --freq 262 --quiet --linear-references" + out).exit_code, 0);
+  const fricrom::Hdf5Reader h5((tmp.path() / "frf.h5").string());
+  ASSERT_TRUE(h5.Has("linear/stick_amplitude_m"));
+  EXPECT_EQ(h5.Vector("linear/freq_hz").size(), 400);
+  EXPECT_TRUE(h5.Vector("linear/stick_amplitude_m").allFinite());
 }
 
 }  // namespace
