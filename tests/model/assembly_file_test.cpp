@@ -105,8 +105,12 @@ TEST_F(BadAssembly, ErrorsNameTheFileKeyAndProblem) {
   e = Error("b = { body = \"blades\", node = 1 }", "b = { body = \"bladez\", node = 1 }");
   EXPECT_NE(e.find("no body named 'bladez'"), std::string::npos) << e;
   e = Error("normal = [-0.70710678118654746, 0.70710678118654757, 0.0]",
-            "normal = [-0.70710678118654746, 0.70710678118654757, 0.1]");
+            "normal = [-0.7, 0.7, 0.14142135623730964]");
   EXPECT_NE(e.find("z DOF"), std::string::npos) << e;
+  e = Error("normal = [-0.70710678118654746, 0.70710678118654757, 0.0]",
+            "normal = [-0.70710678118654746, 0.70710678118654757, 0.1]");
+  EXPECT_NE(e.find("contacts[0].normal"), std::string::npos) << e;
+  EXPECT_NE(e.find("unit vector"), std::string::npos) << e;
   e = Error("[response]\nbody = \"blades\"\nnode = 2\ncomponent = 2",
             "[response]\nbody = \"blades\"\nnode = 2\ncomponent = 3");
   EXPECT_NE(e.find("response.component"), std::string::npos) << e;
