@@ -92,6 +92,9 @@ struct FeBodySpec {
   // are the only matrix of their file.
   std::string mass_file;
   std::string sets_file;  // empty: node sets from the deck beside the matrices (as `reduce`)
+  // Empty: the matrices' own DOF map; else the order of the matrices that carry none (OP4): a
+  // CSV or the EXTRN punch of a superelement, whose grids come along (ReadDofMap).
+  std::string dofs_file;
   std::vector<std::string> boundary_sets;   // node set names kept physical (at least one)
   std::vector<int> components = {1, 2, 3};  // 1..6; empty: every component the matrix has
   CraigBamptonOptions reduction;            // modes / cutoff etc.

@@ -187,8 +187,8 @@ std::vector<std::string> Strings(const Reader& rd, const toml::table& t, const s
   return out;
 }
 
-// fe = { stiffness, mass, sets, boundary, components, modes, cutoff_hz, shift_hz, modal_damping,
-//        modal_damping_basis }
+// fe = { stiffness, mass, sets, dofs, boundary, components, modes, cutoff_hz, shift_hz,
+//        modal_damping, modal_damping_basis }
 ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::string& where,
                      const fs::path& base) {
   const toml::node& fn = rd.Require(body, where, "fe");
@@ -196,12 +196,13 @@ ReducedBody ReduceFe(const Reader& rd, const toml::table& body, const std::strin
   if (!fn.is_table()) rd.Fail(w, "expected a table {stiffness = ..., boundary = [...]}", &fn);
   const toml::table& t = *fn.as_table();
   rd.CheckKeys(t, w,
-               {"stiffness", "mass", "sets", "boundary", "components", "modes", "cutoff_hz",
+               {"stiffness", "mass", "sets", "dofs", "boundary", "components", "modes", "cutoff_hz",
                 "shift_hz", "modal_damping", "modal_damping_basis"});
   FeBodySpec spec;
   spec.stiffness_file = (base / rd.String(t, w, "stiffness")).string();
   if (t.get("mass")) spec.mass_file = (base / rd.String(t, w, "mass")).string();
   if (t.get("sets")) spec.sets_file = (base / rd.String(t, w, "sets")).string();
+  if (t.get("dofs")) spec.dofs_file = (base / rd.String(t, w, "dofs")).string();
   spec.boundary_sets = Strings(rd, t, w, "boundary");
   if (t.get("components")) {
     spec.components.clear();
@@ -276,15 +277,18 @@ void Rotate(const Reader& rd, const std::string& where, const Eigen::Matrix3d& r
     const DofId& d = b->dofs[i];
     if (d.component < 1) continue;
     const int base = d.component <= 3 ? 1 : 4;
+    t(i, i) = 0.0;  // the row is the rotation's, filled below
     for (int k = 0; k < 3; ++k) {
+      // A direction the rotation does not mix in is not needed (a planar body turned in-plane).
+      const double v = rot(d.component - base, k);
+      if (std::abs(v) <= 1e-12) continue;
       const auto it = row.find({d.node, base + k});
       if (it == row.end()) {
-        rd.Fail(where + ".rotate", "node " + std::to_string(d.node) + " has component " +
-                                       std::to_string(d.component) + " but not " +
-                                       std::to_string(base + k) +
-                                       ": a rotation needs all three of a node's directions");
+        rd.Fail(where + ".rotate",
+                "node " + std::to_string(d.node) + " has component " + std::to_string(d.component) +
+                    " but not " + std::to_string(base + k) + ", which the rotation mixes into it");
       }
-      t(i, it->second) = rot(d.component - base, k);
+      t(i, it->second) = v;
     }
   }
   b->k = t * b->k * t.transpose();

@@ -87,7 +87,7 @@ std::string CanonicalOptions(const FeBodySpec& spec) {
                 spec.mass_file.empty() ? 0 : 1, spec.sets_file.empty() ? 0 : 1, o.num_modes,
                 o.cutoff_hz, o.shift, o.eigen_tolerance, o.max_eigen_iterations,
                 o.dense_eigen_max_size, o.check_tolerance, spec.modal_damping_ratio);
-  return s + buf;
+  return s + buf + (spec.dofs_file.empty() ? "" : ";dofs_file=1");
 }
 
 // K (or M) of a model: by the usual export names, else the only matrix of the file.
@@ -110,6 +110,34 @@ std::string CacheFile(const FeBodySpec& spec, const std::string& cache_dir,
   return (fs::path(cache_dir) / (stem + "-" + key + ".h5")).string();
 }
 
+// The DOF order of `dofs_file` on every square matrix of its size that has none; its grids and
+// systems join `model` (as `reduce --dofs`).
+void ApplyDofMap(const std::string& dofs_file, FeModel* model, FeModel* mass_model) {
+  const FeModel map = ReadDofMap(dofs_file);
+  const int64_t n = static_cast<int64_t>(map.external_dofs.size());
+  int applied = 0;
+  for (FeModel* m : {model, mass_model}) {
+    for (FeMatrix& a : m->matrices) {
+      if (a.row_dofs.empty() && a.rows == n && a.cols == n) {
+        a.row_dofs = a.col_dofs = map.external_dofs;
+        ++applied;
+      }
+    }
+  }
+  if (applied == 0) {
+    throw std::invalid_argument(dofs_file + ": its DOF order has " + std::to_string(n) +
+                                " DOFs; no square matrix of that size without a DOF map in " +
+                                model->source);
+  }
+  for (const FeNode& node : map.nodes) {
+    if (!model->FindNode(node.id)) model->nodes.push_back(node);
+  }
+  model->systems.insert(model->systems.end(), map.systems.begin(), map.systems.end());
+  for (const NodeSet& set : map.node_sets) {
+    if (!model->FindNodeSet(set.name)) model->node_sets.push_back(set);
+  }
+}
+
 // Reads the FE files, reduces, and writes the cache file when `key` is not empty.
 ReducedBody ReduceFromFiles(const FeBodySpec& spec, const ReduceFeBodyOptions& options,
                             const std::string& key, CraigBamptonSummary* summary) {
@@ -122,6 +150,7 @@ ReducedBody ReduceFromFiles(const FeBodySpec& spec, const ReduceFeBodyOptions& o
   FeModel mass_model;
   if (!spec.mass_file.empty()) mass_model = ReadFe(spec.mass_file);
   if (!spec.sets_file.empty()) ReadMeshDeck(spec.sets_file, model);
+  if (!spec.dofs_file.empty()) ApplyDofMap(spec.dofs_file, &model, &mass_model);
   // Positions and DOF directions of grids with CP/CD in the basic frame, before anything uses them.
   ExpressInBasic(&model, {&mass_model});
   const FeMatrix& k =
@@ -225,6 +254,7 @@ std::vector<std::string> FeBodyInputFiles(const FeBodySpec& spec) {
   AddMatrixFiles(spec.stiffness_file, &files);
   if (!spec.mass_file.empty()) AddMatrixFiles(spec.mass_file, &files);
   if (!spec.sets_file.empty()) AddDeckWithIncludes(spec.sets_file, 0, &files);
+  if (!spec.dofs_file.empty()) files.push_back(spec.dofs_file);
   return files;
 }
 

@@ -207,3 +207,42 @@ TEST(AssemblyCli, FrfWritesLinearReferencesOnlyWhenAsked) {
 }
 
 }  // namespace
+
+namespace {
+
+// The EXTSEOUT superelement reduced again on first use: fe = {stiffness = OP4, dofs = its EXTRN
+// punch, boundary = the punch's ASET grids}.
+TEST(AssemblyCli, NastranSuperelementThroughTheFeRoute) {
+  TempDir tmp;
+  const std::string example =
+      std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/extseout_pair.toml";
+  std::ifstream in(example);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const std::string data = std::string(FRICROM_SOURCE_DIR) + "/tests/data/extseout/";
+  const std::string se2 =
+      "stiffness = {file = \"../../tests/data/extseout/inboard.op4\", matrix = \"KXX\"}\n"
+      "mass = {file = \"../../tests/data/extseout/inboard.op4\", matrix = \"MXX\"}\n"
+      "dof_map = \"../../tests/data/extseout/inboard.pch\"\ntranslate";
+  const size_t at = toml.find(se2);
+  ASSERT_NE(at, std::string::npos);
+  toml.replace(at, se2.size(),
+               "fe = {stiffness = \"" + data + "inboard.op4\", dofs = \"" + data +
+                   "inboard.pch\", boundary = [\"ASET\"], modes = 4}\ntranslate");
+  for (size_t p; (p = toml.find("../../tests/")) != std::string::npos;) {
+    toml.replace(p, 12, std::string(FRICROM_SOURCE_DIR) + "/tests/");
+  }
+  const std::string file = tmp.path().string() + "/fe_route.toml";
+  std::ofstream(file) << toml;
+  const CliRun modes = Stdout("modes " + Quote(file) + " --json");
+  ASSERT_EQ(modes.exit_code, 0) << fricrom::testing::Stderr("modes " + Quote(file)).output;
+  const json m = json::parse(modes.output);
+  // se2 reduced to its 4 ASET grids x 3 translations + 4 modes: 16 DOFs beside se1's 32.
+  EXPECT_EQ(m.at("stick_dofs").get<int>() + m.at("stick_massless").get<int>(), 32 + 16);
+  const CliRun frf =
+      Stdout("frf " + Quote(file) + " --freq 4.1 --json --out " + Quote(tmp.path().string()));
+  ASSERT_EQ(frf.exit_code, 0) << frf.output;
+}
+
+}  // namespace

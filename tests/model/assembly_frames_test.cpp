@@ -157,3 +157,42 @@ dof_map = "se/inboard.pch"
 
 }  // namespace
 }  // namespace fricrom
+
+namespace fricrom {
+namespace {
+
+// `rotate` turns a body's matrices into the assembly frame: a planar body (x and y only) turned
+// about z needs no z, and its stiffness is T K Tᵀ with T the rotation per node. (The blades'
+// stiffness made anisotropic first: an isotropic one would not see the rotation.)
+TEST(AssemblyFrames, APlanarBodyRotatedInItsPlane) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("fricrom-frames-rotate-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::copy(kAsFeDir, dir);
+  const auto edit = [&](const fs::path& file, const std::string& from, const std::string& to) {
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    const size_t at = s.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    s.replace(at, from.size(), to);
+    std::ofstream(file) << s;
+  };
+  edit(dir / "blades.K.mtx", "1 1 1000000", "1 1 2000000");
+  const Case plain = LoadCase((dir / "case.toml").string());
+  edit(dir / "case.toml", "dof_map = \"blades.dofs.csv\"\n",
+       "dof_map = \"blades.dofs.csv\"\nrotate = {axis = [0.0, 0.0, 1.0], angle_deg = 90.0}\n");
+  const Case turned = LoadCase((dir / "case.toml").string());
+  // Rotation by 90 deg about z: x -> y, y -> -x.
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(6, 6);
+  for (int i = 0; i < 3; ++i) t.block<2, 2>(2 * i, 2 * i) << 0, -1, 1, 0;
+  const Eigen::MatrixXd k = plain.model.stiffness.topLeftCorner(6, 6);
+  const Eigen::MatrixXd want = t * k * t.transpose();
+  EXPECT_GT((want - k).cwiseAbs().maxCoeff(), 1e5);  // the rotation shows
+  EXPECT_LT((turned.model.stiffness.topLeftCorner(6, 6) - want).cwiseAbs().maxCoeff(), 1e-6);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace fricrom
