@@ -149,11 +149,19 @@ void ReadGeometry(const Reader& rd, const toml::table& t, const std::string& whe
   }
   const NodalAreaScheme scheme =
       scheme_name == "consistent" ? NodalAreaScheme::kConsistent : NodalAreaScheme::kSubdivision;
+  // Faces give nodal areas (stiffness per area) and normals. An interface with kn/kt per pair and
+  // a normal needs neither: on beams, shells or superelements it pairs its nodes without them.
+  const bool needs_faces = t.get("kn_per_area") || t.get("kt_per_area") || !t.get("normal");
   try {
     f->faces_a = FaceData(a, scheme, &f->area_a, &f->normal_a);
     f->faces_b = FaceData(b, scheme, &f->area_b, &f->normal_b);
   } catch (const std::invalid_argument& e) {
-    rd.Fail(where, e.what(), &t);
+    if (needs_faces) rd.Fail(where, e.what(), &t);
+    f->faces_a = f->faces_b = false;
+    f->area_a.clear();
+    f->area_b.clear();
+    f->normal_a.clear();
+    f->normal_b.clear();
   }
 }
 

@@ -246,3 +246,45 @@ TEST(AssemblyCli, NastranSuperelementThroughTheFeRoute) {
 }
 
 }  // namespace
+
+namespace {
+
+// An [[interfaces]] entry on beam elements (no solid faces) with kn/kt per pair and a normal
+// pairs its nodes without faces and gives the node contact's response.
+TEST(AssemblyCli, AnInterfaceOnBeamsNeedsNoFaces) {
+  TempDir tmp;
+  const std::string root = std::string(FRICROM_SOURCE_DIR);
+  const std::string example = root + "/examples/exporters/abaqus_beams.toml";
+  std::ifstream in(example);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  for (size_t p; (p = toml.find("../../tests/")) != std::string::npos;) {
+    toml.replace(p, 12, root + "/tests/");
+  }
+  const std::string deck = std::string(FRICROM_SOURCE_DIR) + "/tests/data/abaqus/model.inp";
+  std::ofstream(tmp.path() / "sets.inp")
+      << "*INCLUDE, INPUT=" << deck << "\n*NSET, NSET=TIP\n2\n*NSET, NSET=ROOT\n1\n";
+  for (size_t p; (p = toml.find("mesh = \"" + deck + "\"")) != std::string::npos;) {
+    toml.replace(p, deck.size() + 9, "mesh = \"sets.inp\"");
+  }
+  const size_t i = toml.find("[[contacts]]"), j = toml.find("[[loads]]");
+  ASSERT_TRUE(i != std::string::npos && j != std::string::npos);
+  toml.replace(i, j - i,
+               "[[interfaces]]\nname = \"tip\"\na = { body = \"beam2\", set = \"ROOT\" }\n"
+               "b = { body = \"beam1\", set = \"TIP\" }\nnormal = [1.0, 0.0, 0.0]\n"
+               "slip_direction = [0.0, 1.0, 0.0]\nkn = 1e6\nkt = 1e6\nmu = 0.5\n"
+               "normal_preload = 100.0\n\n");
+  const std::string file = (tmp.path() / "interface.toml").string();
+  std::ofstream(file) << toml;
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun a = Stdout("frf " + Quote(example) + " --freq 1 --json" + out);
+  const CliRun b = Stdout("frf " + Quote(file) + " --freq 1 --json" + out);
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << fricrom::testing::Stderr("frf " + Quote(file) + " --freq 1").output;
+  const double ya = json::parse(a.output).at("points")[0].at("amplitude").get<double>();
+  const double yb = json::parse(b.output).at("points")[0].at("amplitude").get<double>();
+  EXPECT_NEAR(yb, ya, 1e-10 * ya);
+}
+
+}  // namespace
