@@ -15,7 +15,9 @@ BoundarySelection SelectBoundaryDofs(const FeModel& model, const FeMatrix& matri
   if (matrix.row_dofs.empty()) {
     throw std::invalid_argument("matrix " + matrix.name +
                                 " has no DOF map (node, component per row): boundary node sets "
-                                "cannot be located");
+                                "cannot be located; give the order of its rows (fe = {dofs = "
+                                "...}, reduce --dofs): a CSV node,component or the EXTRN punch "
+                                "of the superelement");
   }
   for (const int c : components) {
     if (c < 1 || c > 6) {

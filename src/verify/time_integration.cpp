@@ -60,7 +60,10 @@ ModalResult FullStickModes(const Model& model, const std::string& caller) {
   Eigen::VectorXd lambda;
   if (!dense::SymmetricGeneralizedEigen(model.stiffness + ContactStickStiffness(model), model.mass,
                                         &lambda, &stick.shapes)) {
-    throw std::invalid_argument(caller + ": mass matrix is not positive definite");
+    throw std::invalid_argument(caller +
+                                ": the mass matrix is not positive definite (directions without "
+                                "mass, e.g. a superelement's semi-definite mass): time "
+                                "integration needs mass in every direction");
   }
   stick.frequencies_hz = lambda.unaryExpr(&HzFromEigenvalue);
   return stick;

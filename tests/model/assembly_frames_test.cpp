@@ -16,6 +16,7 @@
 #include "fricrom/case_file.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/frf.h"
+#include "fricrom/linear.h"
 
 namespace fricrom {
 namespace {
@@ -111,6 +112,11 @@ TEST(AssemblyFrames, ABodyInACylindricalSystemGivesTheBasicResults) {
   EXPECT_GT((t * read("blades.K.mtx") * t.transpose() - read("blades.K.mtx")).norm(), 1e5);
   // ... and come back to them.
   EXPECT_LT((local.model.stiffness - basic.model.stiffness).cwiseAbs().maxCoeff(), 1e-3);
+  // The same free and full-stick modes.
+  const ModalResult ma = StickSystemModes(basic.model), mb = StickSystemModes(local.model);
+  ASSERT_EQ(ma.frequencies_hz.size(), mb.frequencies_hz.size());
+  EXPECT_LT((ma.frequencies_hz - mb.frequencies_hz).cwiseAbs().maxCoeff(),
+            1e-9 * ma.frequencies_hz.maxCoeff());
   const auto a = MakeBalance(basic.model, HbmOptions{1, 128}, basic.analysis.balance);
   const auto b = MakeBalance(local.model, HbmOptions{1, 128}, local.analysis.balance);
   const Eigen::Vector4d alpha(0.3, -0.5, 0.1, 0.9);
