@@ -22,6 +22,11 @@ struct ModalResult {
 // negative eigenvalue beyond round-off.
 ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
 ModalResult FreeSystemModes(const Model& model);   // blades only: model.free_dofs
+// The receptance of the condensed balance where a case does not name one: modal where it is
+// exact and pays — at least `min_dofs` DOFs, a positive definite mass and a damping that the
+// full-stick modes diagonalise (|Φᵀ C Φ| off the diagonal ≤ 1e-8 of its largest entry, as for
+// mass-proportional or modal damping of the whole assembly) — else dense.
+ReceptanceMethod ChooseReceptance(const Model& model, int min_dofs = 500);
 ModalResult StickSystemModes(const Model& model);  // all bodies, contacts as kn/kt springs
 
 enum class LinearSystemKind { kFree, kStick };

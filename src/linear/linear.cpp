@@ -21,6 +21,10 @@ std::vector<int> AllDofs(const Model& model) {
 
 namespace {
 
+// Off-diagonal modal damping below this fraction of the largest entry is round-off: the modal
+// receptance, which keeps the diagonal of Φᵀ C Φ, is then exact.
+constexpr double kDiagonalDamping = 1e-8;
+
 // Eigenvalues of M relative to its largest below this are massless directions (round-off of an
 // exporter's semi-definite mass: the EXTSEOUT superelement's smallest is -7e-12 of 1).
 constexpr double kMassless = 1e-9;
@@ -82,6 +86,21 @@ ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd
   result.frequencies_hz = solver.eigenvalues().unaryExpr(&HzFromEigenvalue);
   result.shapes = solver.eigenvectors();
   return result;
+}
+
+ReceptanceMethod ChooseReceptance(const Model& model, int min_dofs) {
+  if (model.num_dofs() < min_dofs) return ReceptanceMethod::kDense;
+  const Eigen::MatrixXd k = model.stiffness + ContactStickStiffness(model);
+  Eigen::VectorXd lambda;
+  Eigen::MatrixXd phi;
+  if (!dense::SymmetricGeneralizedEigen(k, model.mass, &lambda, &phi)) {
+    return ReceptanceMethod::kDense;  // a semi-definite mass: the modal route needs a definite one
+  }
+  const Eigen::MatrixXd c = phi.transpose() * model.damping * phi;
+  const double largest = c.cwiseAbs().maxCoeff();
+  const Eigen::MatrixXd off = c - Eigen::MatrixXd(c.diagonal().asDiagonal());
+  return off.cwiseAbs().maxCoeff() <= kDiagonalDamping * largest ? ReceptanceMethod::kModal
+                                                                 : ReceptanceMethod::kDense;
 }
 
 ModalResult FreeSystemModes(const Model& model) {

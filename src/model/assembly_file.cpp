@@ -12,6 +12,7 @@
 
 #include "assembly_parts.h"
 #include "fricrom/fe_model.h"
+#include "fricrom/linear.h"
 
 namespace fricrom::detail {
 namespace {
@@ -312,6 +313,13 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
   if (!raccel.empty()) resolved.insert("accelerations", std::move(raccel));
   ParseAnalysis(rd, root, rd.Array(root, "", "loads"), cs.model.num_alpha(),
                 BalanceKind::kCondensed, &cs.analysis, &resolved);
+  const toml::table* analysis = root["analysis"].as_table();
+  if (!analysis || !analysis->get("receptance")) {
+    // No route named: the modal one where it is exact and pays (linear.h), else dense.
+    cs.analysis.receptance = ChooseReceptance(cs.model);
+    resolved["analysis"].as_table()->insert_or_assign("receptance",
+                                                      ToString(cs.analysis.receptance));
+  }
   FinishCase(resolved, &cs);
   return cs;
 }

@@ -97,3 +97,35 @@ TEST(Linear, ASemiDefiniteMassGivesTheCondensedModes) {
 
 }  // namespace
 }  // namespace fricrom
+
+namespace fricrom {
+namespace {
+
+// Without a receptance key the modal route is taken only where it is exact: damping that the
+// full-stick modes diagonalise (mass-proportional here), a definite mass, enough DOFs.
+TEST(Linear, TheModalReceptanceIsChosenWhereItIsExact) {
+  const int n = 6;
+  Model m;
+  m.stiffness = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    m.stiffness(i, i) += 2e4 + 1e3 * i;
+    if (i + 1 < n) {
+      m.stiffness(i, i) += 1e4;
+      m.stiffness(i + 1, i + 1) += 1e4;
+      m.stiffness(i, i + 1) = m.stiffness(i + 1, i) = -1e4;
+    }
+  }
+  m.mass = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0).asDiagonal();
+  m.damping = 3.0 * m.mass;  // mass-proportional
+  m.dof_names.assign(n, "dof");
+  EXPECT_EQ(ChooseReceptance(m, 1), ReceptanceMethod::kModal);
+  EXPECT_EQ(ChooseReceptance(m, n + 1), ReceptanceMethod::kDense);  // too small to pay
+  m.damping(0, 0) += 5.0;  // one dashpot: not diagonal in the modes
+  EXPECT_EQ(ChooseReceptance(m, 1), ReceptanceMethod::kDense);
+  m.damping = 3.0 * m.mass;
+  m.mass(n - 1, n - 1) = 0.0;  // a massless DOF: the modal route cannot take it
+  EXPECT_EQ(ChooseReceptance(m, 1), ReceptanceMethod::kDense);
+}
+
+}  // namespace
+}  // namespace fricrom
