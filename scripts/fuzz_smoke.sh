@@ -17,10 +17,16 @@ readers=()
 for f in src/io/*.cpp; do [[ $f == src/io/hdf5_file.cpp ]] || readers+=("$f"); done
 # The case-file reader: its own sources, toml++ as the shared library the project links.
 case_sources=(src/model/case_file.cpp src/model/case_reader.cpp src/model/model.cpp src/model/formulation.cpp)
+# The assembly reader on top: its bodies, interfaces and checks (the FE readers above; the
+# reductions stubbed in the harness), LAPACK from Debian's reference libraries.
+assembly_sources=(src/model/assembly_bodies.cpp src/model/assembly_file.cpp
+                  src/model/assembly_interfaces.cpp src/contact/interface_geometry.cpp
+                  src/linear/linear.cpp src/linear/dense_lapack.cpp)
 toml=(-DTOML_HEADER_ONLY=0 -DTOML_SHARED_LIB=1)
 declare -A corpus=([op4]="tests/data/op4 tests/fuzz/regressions/op4" [punch]="tests/data/dmig tests/data/extseout"
                    [abaqus]=tests/data/abaqus [calculix]=tests/data/calculix [mtx]=tests/data/mtx
-                   [inp_deck]="tests/data/calculix meshes/damper/coarse" [case]=meshes/lumped3)
+                   [inp_deck]="tests/data/calculix meshes/damper/coarse" [case]=meshes/lumped3
+                   [assembly]="meshes/lumped3/as_fe examples/exporters")
 targets=(op4 punch abaqus calculix mtx inp_deck)
 # The readers are compiled once (instrumented for the fuzzer, not linked with its main), on every
 # core; each target then only compiles its harness and links: ~1 min instead of ~5.
@@ -29,6 +35,7 @@ jobs=()
 for f in "${readers[@]}"; do jobs+=("$f:$out/$(basename "${f%.cpp}").o"); done
 for t in "${targets[@]}"; do jobs+=("tests/fuzz/${t}_fuzz.cpp:$out/${t}_fuzz.o"); done
 for f in tests/fuzz/case_fuzz.cpp "${case_sources[@]}"; do jobs+=("$f:$out/case_$(basename "${f%.cpp}").o"); done
+for f in tests/fuzz/assembly_fuzz.cpp "${assembly_sources[@]}"; do jobs+=("$f:$out/asm_$(basename "${f%.cpp}").o"); done
 printf '%s\n' "${jobs[@]}" | xargs -P "$(nproc)" -I{} bash -c \
   'src=${1%%:*}; obj=${1#*:}; shift; clang++ "$@" -c "$src" -o "$obj"' _ {} \
   "${common[@]}" "${toml[@]}" -fsanitize=fuzzer-no-link,address,undefined
@@ -40,7 +47,12 @@ done
 case_objects=()
 for f in tests/fuzz/case_fuzz.cpp "${case_sources[@]}"; do case_objects+=("$out/case_$(basename "${f%.cpp}").o"); done
 clang++ -fsanitize=fuzzer,address,undefined "${case_objects[@]}" -lmuparser -ltomlplusplus -o "$out/case_fuzz"
-targets+=(case)
+asm_objects=("${objects[@]}")
+for f in "${case_sources[@]}"; do asm_objects+=("$out/case_$(basename "${f%.cpp}").o"); done
+for f in tests/fuzz/assembly_fuzz.cpp "${assembly_sources[@]}"; do asm_objects+=("$out/asm_$(basename "${f%.cpp}").o"); done
+clang++ -fsanitize=fuzzer,address,undefined "${asm_objects[@]}" -lmuparser -ltomlplusplus -llapack -lblas \
+  -o "$out/assembly_fuzz"
+targets+=(case assembly)
 # fuzz_one TARGET: runs one target on its corpus; its verdict (ok / found) in $out/TARGET.verdict.
 fuzz_one() {
   local t=$1 work="$out/corpus_$1"

@@ -57,6 +57,9 @@ std::string ReadWholeFile(const std::string& path, const std::string& what) {
     Fail(path, 0, "cannot open " + what + ": no such file");
   if (std::filesystem::is_directory(status))
     Fail(path, 0, "expected " + what + ", got a directory");
+  // A device (/dev/zero, /dev/urandom) holds no file and never ends.
+  if (std::filesystem::is_character_file(status) || std::filesystem::is_block_file(status))
+    Fail(path, 0, "expected " + what + ", got a device");
   std::ifstream in(path, std::ios::binary);
   if (!in) Fail(path, 0, "cannot open " + what);
   // One read of the whole (regular) file into a buffer of its size, then whatever is left (a file

@@ -387,8 +387,13 @@ ParameterOverride ParseOverride(const std::string& text) {
 
 Case LoadCase(const std::string& path, const std::vector<ParameterOverride>& overrides) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) {
     throw CaseError(path + ": is a directory, expected a case file (TOML)");
+  }
+  // A device (/dev/zero) never ends: reading it would take all memory.
+  if (std::filesystem::is_character_file(status) || std::filesystem::is_block_file(status)) {
+    throw CaseError(path + ": is a device, expected a case file (TOML)");
   }
   std::ifstream in(path);
   if (!in) throw CaseError(path + ": cannot open case file");
