@@ -360,9 +360,11 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
                           (l.cos.cwiseAbs().maxCoeff() > 0.0 || l.sin.cwiseAbs().maxCoeff() > 0.0));
   }
   if (!excited) {
-    throw CaseError(source_name +
-                    ": no harmonic load (a load with harmonic >= 1 and a nonzero cos or sin): "
-                    "the forced response would be zero");
+    Reader(source_name)
+        .Fail("loads",
+              "no harmonic load (a load with harmonic >= 1 and a nonzero cos or sin): the "
+              "forced response would be zero",
+              root.get("loads"));
   }
   return c;
 }
