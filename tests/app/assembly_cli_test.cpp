@@ -288,3 +288,28 @@ TEST(AssemblyCli, AnInterfaceOnBeamsNeedsNoFaces) {
 }
 
 }  // namespace
+
+namespace {
+
+// The CalculiX route (docs/exporters.md): the coarse cascade's bodies are CalculiX matrices
+// reduced on first use (fe = {...}); modes, frf and bounds run on it end to end.
+TEST(AssemblyCli, CalculixCascadeRunsEveryCommand) {
+  TempDir tmp;
+  const std::string c = Quote(std::string(FRICROM_SOURCE_DIR) + "/meshes/cascade3/coarse.toml");
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun modes = Stdout("modes " + c + " --json");
+  ASSERT_EQ(modes.exit_code, 0) << modes.output;
+  const json m = json::parse(modes.output);
+  EXPECT_EQ(m.at("stick_massless"), 0);
+  for (const auto& f : m.at("stick_hz")) EXPECT_TRUE(std::isfinite(f.get<double>()));
+  const CliRun frf = Stdout("frf " + c + " --freq 1000 --json" + out);
+  ASSERT_EQ(frf.exit_code, 0) << frf.output;
+  EXPECT_EQ(json::parse(frf.output).at("points")[0].at("status"), "converged");
+  const CliRun bounds = Stdout("bounds " + c + " --freq 1000 --search quick --json" + out);
+  ASSERT_EQ(bounds.exit_code, 0) << bounds.output;
+  const json b = json::parse(bounds.output);
+  EXPECT_EQ(b.at("status"), "converged");
+  EXPECT_GT(b.at("y_max").get<double>(), 0.0);
+}
+
+}  // namespace
