@@ -351,6 +351,8 @@ def section_bounds(data, notes, figs):
         ["mixed configuration at the maximum", mixed_text(data.get("mixed_configuration_at_max"), smax)],
         ["\u03b1 at the minimum", _vector(data.get("alpha_at_min"))],
         ["\u03b1 at the maximum", _vector(data.get("alpha_at_max"))],
+        ["stability of the minimum (Hill)", _stability(data.get("stability_min"))],
+        ["stability of the maximum (Hill)", _stability(data.get("stability_max"))],
     ]
     if data.get("status") not in (None, "converged"):
         rows.append(["status", str(data.get("status"))])
@@ -388,6 +390,17 @@ def section_bounds(data, notes, figs):
     summary = (f"Bounds: {fmt(f, '.2f')} Hz, y_min {fmt(ymin, '.4e')} m, y_max {fmt(ymax, '.4e')} m, "
                f"R = {fmt(r, '.4f')}; {agree}/{known} checks agree with the paper")
     return lines + fig_lines, summary
+
+
+def _stability(s):
+    """'stable' / 'unstable' with the largest Floquet exponent, or why it was not computed."""
+    if not isinstance(s, dict):
+        return "n/a"
+    stable, real = s.get("stable"), _num(s.get("max_floquet_real_per_s"))
+    if stable is None:
+        return "not computed (" + str(s.get("note", "")) + ")"
+    word = "stable" if stable else "**unstable**"
+    return f"{word} (largest Floquet exponent real part {fmt(real, '.4g', ' 1/s')})"
 
 
 def _vector(v):

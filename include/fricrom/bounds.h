@@ -216,6 +216,14 @@ struct BoundSolution {
   // known solution, or the last iterate of a run stopped at its iteration limit. A bound encloses
   // every feasible point its runs reached, finished or not.
   bool stationary = false;
+  // Hill stability of the solution (stability.h, AssessBoundStability); not computed: the note
+  // says why, stable and max_floquet_real stay false / NaN.
+  struct Stability {
+    bool computed = false;
+    bool stable = false;
+    double max_floquet_real = std::numeric_limits<double>::quiet_NaN();  // [1/s]
+    std::string note;
+  } stability;
   bool IsUsable() const { return status == BoundStatus::kConverged; }
 };
 

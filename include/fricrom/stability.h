@@ -16,6 +16,7 @@
 #include <Eigen/Dense>
 #include <string>
 
+#include "fricrom/bounds.h"
 #include "fricrom/hbm_system.h"
 
 namespace fricrom {
@@ -48,5 +49,10 @@ HillResult HillStability(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd&
 // while a perturbation of a stuck contact is held by kt.
 HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
                          const Eigen::VectorXd& alpha, const HillOptions& options = {});
+
+// Hill stability of both bounds of `b` at ω (their x are solutions of `system`): computed for the
+// full balance (HbmSystem); for another balance each bound's stability says it was not computed.
+void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
+                          const HillOptions& options = {});
 
 }  // namespace fricrom

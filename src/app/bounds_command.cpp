@@ -12,6 +12,8 @@
 #include "app/result_files.h"
 #include "app/unit_runs.h"
 #include "fricrom/balance.h"
+#include "fricrom/stability.h"
+#include "fricrom/units.h"
 #include "fricrom/work_queue.h"
 
 namespace fricrom::app {
@@ -89,6 +91,12 @@ void PrintBoundsText(const Case& c, const BoundCurve& curve, const CurveUnitsRun
     for (const std::string& r : RegimeNames(at.max.regimes)) std::cout << " " << r;
     std::cout << "\n";
   }
+  for (const auto& [name, s] : {std::pair{"min", &at.min}, std::pair{"max", &at.max}}) {
+    std::cout << "  stability at " << name << " (Hill): "
+              << (s->stability.computed ? (s->stability.stable ? "stable" : "UNSTABLE")
+                                        : "not computed")
+              << " (" << s->stability.note << ")\n";
+  }
   if (run.stages.size() > 1) {  // one stage (a frequency off the harmonic ladder) says nothing new
     std::cout << "  stages:";
     const char* sep = " ";
@@ -152,6 +160,8 @@ int DesignCommands::State::RunBounds() {
       [&](const CurveUnitsRun& r) {
         progress.Done();
         curve = AssembleBoundCurve(r.points);
+        // Hill stability of each bound (the full balance; noted as not computed otherwise).
+        for (BoundsResult& p : curve.points) AssessBoundStability(system, RadPerS(p.freq_hz), &p);
         wall = curve.wall_s = Seconds(t0);
         WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
         WriteManifest(dir, "bounds", {h5p, csvp});

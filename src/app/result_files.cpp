@@ -72,6 +72,13 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
   // false: the bound is a feasible point beyond every stationary point its runs reached.
   j["stationary_min"] = b.min.IsUsable() ? json(b.min.stationary) : json(nullptr);
   j["stationary_max"] = b.max.IsUsable() ? json(b.max.stationary) : json(nullptr);
+  // Hill stability of each bound's solution (null where not computed; the note says why).
+  for (const auto& [key, s] :
+       {std::pair{"stability_min", &b.min}, std::pair{"stability_max", &b.max}}) {
+    j[key] = {{"stable", s->stability.computed ? json(s->stability.stable) : json(nullptr)},
+              {"max_floquet_real_per_s", NumberOrNull(s->stability.max_floquet_real)},
+              {"note", s->stability.note}};
+  }
   j["spread_min"] = b.spread_min;
   j["spread_max"] = b.spread_max;
   j["seeds_tried"] = b.seeds_tried;

@@ -30,6 +30,10 @@ std::string HillResult::BriefReport() const {
 
 namespace {
 
+// The companion form's dimension 2n(2H+1) beyond which the dense, nonsymmetric eigen-solve
+// (O(N³)) is not attempted for a bound's report: the lumped benchmark's is 60 at H = 1.
+constexpr int kLargestHillProblem = 3000;
+
 // Kronecker product of the (2H+1)-coefficient operator `op` with the n x n matrix `a`, in the
 // harmonic-major layout (coefficient blocks of n).
 Eigen::MatrixXd Kron(const Eigen::MatrixXd& op, const Eigen::MatrixXd& a) {
@@ -157,6 +161,30 @@ HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, doub
   if (!stuck.contacts.empty()) e.jacobian.topLeftCorner(n, n) += ContactStickStiffness(stuck);
   return HillStability(e.jacobian, system.model().mass, system.model().damping, system.harmonics(),
                        omega, options);
+}
+
+void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
+                          const HillOptions& options) {
+  const auto* full = dynamic_cast<const HbmSystem*>(&system);
+  for (BoundSolution* s : {&b->min, &b->max}) {
+    s->stability = {};
+    if (!s->IsUsable()) {
+      s->stability.note = "no solution";
+    } else if (!full) {
+      s->stability.note =
+          "Hill stability is computed for the full balance (lumped cases, --balance full)";
+    } else if (2 * full->num_unknowns() > kLargestHillProblem) {
+      s->stability.note = "the dense Hill eigenproblem (" +
+                          std::to_string(2 * full->num_unknowns()) +
+                          " unknowns) is too large to solve here";
+    } else {
+      const HillResult r = HillStability(*full, s->x, omega, s->alpha, options);
+      s->stability.computed = true;
+      s->stability.stable = r.stable;
+      s->stability.max_floquet_real = r.max_real;
+      s->stability.note = r.message;
+    }
+  }
 }
 
 }  // namespace fricrom

@@ -378,3 +378,28 @@ TEST(Cli, InfoOnABadFileNamesIt) {
 }
 
 }  // namespace
+
+namespace {
+
+// `bounds --json` carries the Hill stability of both bounds: computed for the lumped case's full
+// balance (the paper's bounds at 266 Hz are stable), noted as not computed for the condensed one.
+TEST(Cli, BoundsJsonCarriesTheStabilityOfBothBounds) {
+  TempDir tmp;
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun lumped = Stdout("bounds " + Quote(kBaseline) + " --freq 266 --json" + out);
+  ASSERT_EQ(lumped.exit_code, 0) << lumped.output;
+  const json j = json::parse(lumped.output);
+  for (const char* key : {"stability_min", "stability_max"}) {
+    EXPECT_EQ(j.at(key).at("stable"), true) << key;
+    EXPECT_LT(j.at(key).at("max_floquet_real_per_s").get<double>(), 0.0) << key;
+  }
+  const std::string as_fe = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/as_fe/case.toml";
+  const CliRun fe = Stdout("bounds " + Quote(as_fe) + " --freq 266 --json" + out);
+  ASSERT_EQ(fe.exit_code, 0) << fe.output;
+  const json k = json::parse(fe.output);
+  EXPECT_TRUE(k.at("stability_min").at("stable").is_null());
+  EXPECT_NE(k.at("stability_min").at("note").get<std::string>().find("full balance"),
+            std::string::npos);
+}
+
+}  // namespace
