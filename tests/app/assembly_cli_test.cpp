@@ -24,6 +24,19 @@ using fricrom::testing::TempDir;
 
 const std::string kDir = std::string(FRICROM_SOURCE_DIR) + "/meshes/lumped3/";
 
+// The text of an exporter example (examples/exporters/NAME) with its paths to the sample files
+// (relative to the example's folder) made absolute, to be edited and written elsewhere.
+std::string ExampleToml(const std::string& name) {
+  std::ifstream in(std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/" + name);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  for (size_t at; (at = toml.find("../../tests/")) != std::string::npos;) {
+    toml.replace(at, 12, std::string(FRICROM_SOURCE_DIR) + "/tests/");
+  }
+  return toml;
+}
+
 TEST(AssemblyCli, BoundsThroughTheFePathEqualTheLumpedBounds) {
   TempDir tmp;
   const std::string out = " --out " + Quote(tmp.path().string());
@@ -161,18 +174,11 @@ TEST(AssemblyCli, AbaqusBeamPairRunsEveryCommandAndAFreeOneIsAnError) {
   EXPECT_EQ(json::parse(bounds.output).at("status"), "converged");
 
   // The same case without the rotational springs: the beams' torsion is free.
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
+  std::string toml = ExampleToml("abaqus_beams.toml");
   for (size_t at; (at = toml.find("ground_rotation_stiffness = 1e3\n")) != std::string::npos;) {
     toml.erase(at, std::string("ground_rotation_stiffness = 1e3\n").size());
   }
   const std::string free_case = tmp.path().string() + "/free.toml";
-  // Paths relative to the example's folder: absolute ones here.
-  for (size_t at; (at = toml.find("../../tests/")) != std::string::npos;) {
-    toml.replace(at, 12, std::string(FRICROM_SOURCE_DIR) + "/tests/");
-  }
   std::ofstream(free_case) << toml;
   const CliRun err = fricrom::testing::Stderr("modes " + Quote(free_case));
   EXPECT_EQ(err.exit_code, 2) << err.output;
@@ -214,25 +220,16 @@ namespace {
 // punch, boundary = the punch's ASET grids}.
 TEST(AssemblyCli, NastranSuperelementThroughTheFeRoute) {
   TempDir tmp;
-  const std::string example =
-      std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/extseout_pair.toml";
-  std::ifstream in(example);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
+  std::string toml = ExampleToml("extseout_pair.toml");
   const std::string data = std::string(FRICROM_SOURCE_DIR) + "/tests/data/extseout/";
   const std::string se2 =
-      "stiffness = {file = \"../../tests/data/extseout/inboard.op4\", matrix = \"KXX\"}\n"
-      "mass = {file = \"../../tests/data/extseout/inboard.op4\", matrix = \"MXX\"}\n"
-      "dof_map = \"../../tests/data/extseout/inboard.pch\"\ntranslate";
+      "stiffness = {file = \"" + data + "inboard.op4\", matrix = \"KXX\"}\nmass = {file = \"" +
+      data + "inboard.op4\", matrix = \"MXX\"}\ndof_map = \"" + data + "inboard.pch\"\ntranslate";
   const size_t at = toml.find(se2);
   ASSERT_NE(at, std::string::npos);
   toml.replace(at, se2.size(),
                "fe = {stiffness = \"" + data + "inboard.op4\", dofs = \"" + data +
                    "inboard.pch\", boundary = [\"ASET\"], modes = 4}\ntranslate");
-  for (size_t p; (p = toml.find("../../tests/")) != std::string::npos;) {
-    toml.replace(p, 12, std::string(FRICROM_SOURCE_DIR) + "/tests/");
-  }
   const std::string file = tmp.path().string() + "/fe_route.toml";
   std::ofstream(file) << toml;
   const CliRun modes = Stdout("modes " + Quote(file) + " --json");
@@ -253,15 +250,9 @@ namespace {
 // pairs its nodes without faces and gives the node contact's response.
 TEST(AssemblyCli, AnInterfaceOnBeamsNeedsNoFaces) {
   TempDir tmp;
-  const std::string root = std::string(FRICROM_SOURCE_DIR);
-  const std::string example = root + "/examples/exporters/abaqus_beams.toml";
-  std::ifstream in(example);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string toml = text.str();
-  for (size_t p; (p = toml.find("../../tests/")) != std::string::npos;) {
-    toml.replace(p, 12, root + "/tests/");
-  }
+  const std::string example =
+      std::string(FRICROM_SOURCE_DIR) + "/examples/exporters/abaqus_beams.toml";
+  std::string toml = ExampleToml("abaqus_beams.toml");
   const std::string deck = std::string(FRICROM_SOURCE_DIR) + "/tests/data/abaqus/model.inp";
   std::ofstream(tmp.path() / "sets.inp")
       << "*INCLUDE, INPUT=" << deck << "\n*NSET, NSET=TIP\n2\n*NSET, NSET=ROOT\n1\n";

@@ -12,19 +12,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "case_invariants.h"
 #include "fricrom/case_file.h"
 #include "fricrom/reduced_body.h"
-
-namespace {
-
-void Check(bool ok, const char* what) {
-  if (!ok) {
-    std::fprintf(stderr, "invariant broken: %s\n", what);
-    std::abort();
-  }
-}
-
-}  // namespace
 
 fricrom::ReducedBody fricrom::ReadReducedBody(const std::string& path) {
   throw std::runtime_error(path + ": reduced bodies are not fuzzed here");
@@ -46,24 +36,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const fricrom::CaseError&) {
     return 0;
   }
-  const fricrom::Model& m = c.model;
-  Check(m.num_dofs() > 0, "a case has DOFs");
-  Check(m.mass.allFinite() && m.stiffness.allFinite() && m.damping.allFinite(), "finite matrices");
-  Check(m.response_dof >= 0 && m.response_dof < m.num_dofs(), "response DOF in range");
-  Check(!m.free_dofs.empty(), "a blade");
-  for (const fricrom::Contact& k : m.contacts) {
-    Check(std::isfinite(k.kn) && std::isfinite(k.kt) && std::isfinite(k.mu) &&
-              std::isfinite(k.normal_preload),
-          "finite contact law");
-    Check(std::abs(k.normal.norm() - 1.0) < 1e-6 && std::abs(k.tangent.norm() - 1.0) < 1e-6,
-          "unit contact frame");
+  fricrom_fuzz::CheckCase(c);
+  // The assembly's own: a blade, and unit contact frames (checked on input with their keys).
+  fricrom_fuzz::Check(!c.model.free_dofs.empty(), "a blade");
+  for (const fricrom::Contact& k : c.model.contacts) {
+    fricrom_fuzz::Check(
+        std::abs(k.normal.norm() - 1.0) < 1e-6 && std::abs(k.tangent.norm() - 1.0) < 1e-6,
+        "unit contact frame");
   }
-  bool harmonic = false;
-  for (const fricrom::HarmonicLoad& l : m.loads) {
-    Check(l.cos.allFinite() && l.sin.allFinite(), "finite loads");
-    harmonic = harmonic || (l.harmonic >= 1 && (l.cos.norm() > 0 || l.sin.norm() > 0));
-  }
-  Check(harmonic, "a harmonic load");
-  Check(static_cast<int>(c.analysis.alpha.size()) == m.num_alpha(), "one default alpha per alpha");
   return 0;
 }

@@ -13,19 +13,9 @@
 #include <cstdlib>
 #include <string>
 
+#include "case_invariants.h"
 #include "fricrom/case_file.h"
 #include "model/case_reader.h"
-
-namespace {
-
-void Check(bool ok, const char* what) {
-  if (!ok) {
-    std::fprintf(stderr, "invariant broken: %s\n", what);
-    std::abort();
-  }
-}
-
-}  // namespace
 
 // The FE assembly reader is not linked: a case that reaches it is refused like bad input.
 fricrom::Case fricrom::detail::ParseAssembly(const toml::table&, const std::string& source,
@@ -41,22 +31,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const fricrom::CaseError&) {
     return 0;
   }
-  const fricrom::Model& m = c.model;
-  Check(m.num_dofs() > 0, "a case has DOFs");
-  Check(m.mass.allFinite() && m.stiffness.allFinite() && m.damping.allFinite(), "finite matrices");
-  Check(m.response_dof >= 0 && m.response_dof < m.num_dofs(), "response DOF in range");
-  for (const fricrom::Contact& k : m.contacts) {
-    Check(std::isfinite(k.kn) && std::isfinite(k.kt) && std::isfinite(k.mu) &&
-              std::isfinite(k.normal_preload),
-          "finite contact law");
-  }
-  for (const fricrom::HarmonicLoad& l : m.loads) {
-    Check(l.cos.allFinite() && l.sin.allFinite(), "finite loads");
-    Check(l.harmonic >= 0 && l.harmonic <= c.analysis.harmonics, "load harmonic within H");
-  }
-  Check(c.analysis.harmonics >= 1 && c.analysis.samples_per_period > 2 * c.analysis.harmonics,
-        "AFT samples resolve H");
-  Check(static_cast<int>(c.analysis.alpha.size()) == m.num_alpha(), "one default alpha per alpha");
-  for (double a : c.analysis.alpha) Check(std::abs(a) <= 1.0, "default alpha in [-1, 1]");
+  fricrom_fuzz::CheckCase(c);
   return 0;
 }
