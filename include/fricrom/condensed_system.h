@@ -70,6 +70,17 @@ class CondensedSystem : public HarmonicBalance {
   std::vector<ContactRegime> ContactRegimes(const Eigen::VectorXd& x, double omega,
                                             const Eigen::VectorXd& alpha) const override;
 
+  // The relative-displacement operator B (num_relative() × DOFs), the stick stiffness per row
+  // (K_s = diag) and contact c's tangential row: the linear part a Hill analysis reduces.
+  const Eigen::MatrixXd& relative_operator() const { return b_; }
+  const Eigen::VectorXd& stick_stiffness() const { return ks_; }
+  int tangential_row(int c) const { return row_t_[c]; }
+  // ∂F̃/∂r at (x, α), F̃ = F_c − K_s r, coefficient-major ((2H+1)·num_relative() square: entry
+  // (j·n_r + i, l·n_r + k) is ∂F̃_i(coefficient j)/∂r_k(coefficient l)). Contacts flagged in
+  // `as_springs` (empty: none) count as their linear stick springs, which add nothing to F̃.
+  Eigen::MatrixXd ContactForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& alpha,
+                                       const std::vector<bool>& as_springs = {}) const;
+
   // All DOF coefficients (hbm.h layout) of condensed unknowns x at (ω, α): x̃(r).
   Eigen::VectorXd Recover(const Eigen::VectorXd& x, double omega,
                           const Eigen::VectorXd& alpha) const;

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <limits>
 #include <string>
 
 #include "fricrom/bounds.h"
@@ -25,6 +26,10 @@ struct HillOptions {
   // A kept exponent with Re λ above this fraction of ω counts as growing: the solution is unstable.
   // (Round-off of the eigen-solve puts neutral exponents at |Re λ| ~ 1e-10 ω.)
   double growth_tolerance = 1e-7;
+  // Condensed balance: full-stick modes below this multiple of the excitation frequency are
+  // dynamic, the contact rows' residual flexibility above them quasi-static — the model of the
+  // implicit modal time integration (TimeIntegrationOptions::modal_cutoff_factor), which checks it.
+  double modal_cutoff_factor = 20.0;
   bool IsValid(std::string* error) const;
 };
 
@@ -50,8 +55,52 @@ HillResult HillStability(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd&
 HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
                          const Eigen::VectorXd& alpha, const HillOptions& options = {});
 
-// Hill stability of both bounds of `b` at ω (their x are solutions of `system`): computed for the
-// full balance (HbmSystem); for another balance each bound's stability says it was not computed.
+class CondensedSystem;
+
+// The same at a solution x of the condensed balance `system`: the linear part reduced to the
+// full-stick modes below options.modal_cutoff_factor × f (dynamic) and the contact rows' residual
+// flexibility (quasi-static, eliminated), ∂F̃/∂r from the AFT with the same kt restored for
+// contacts stuck over the whole period; the 2m exponents of the m modes are returned. Exact where
+// every mode is kept (then no residual is left). Throws std::domain_error where a residual
+// direction has no stiffness (a body held only by sliding friction), which needs its mass.
+HillResult HillStability(const CondensedSystem& system, const Eigen::VectorXd& x, double omega,
+                         const Eigen::VectorXd& alpha, const HillOptions& options = {});
+
+// Hill stability of a solution of any balance: the full one (dense, up to a companion size of
+// 3000 unknowns) or the condensed one (modal form). Throws std::domain_error, saying why, where it
+// cannot be computed (another balance, a problem too large, a residual direction without
+// stiffness).
+HillResult HillStabilityOf(const HarmonicBalance& system, const Eigen::VectorXd& x, double omega,
+                           const Eigen::VectorXd& alpha, const HillOptions& options = {});
+
+// The independent check: time integration from the solution's own state at t = 0 (implicit
+// modal scheme, loads fully on; time_integration.h) for a few windows. The solution holds when
+// the run settles at its amplitude within `margin` (the harmonic truncation separates the
+// time-domain amplitude from the HBM's by up to ~1e-2 next to a resonance); a run that settles
+// elsewhere or drifts has left it.
+struct HoldResult {
+  bool holds = false;
+  std::string status;  // the run's TimeIntegrationResult status
+  double amplitude = std::numeric_limits<double>::quiet_NaN();           // the run's [m]
+  double solution_amplitude = std::numeric_limits<double>::quiet_NaN();  // the HBM's [m]
+  int periods = 0;
+  double wall_s = 0.0;
+  std::string message;
+};
+struct HoldOptions {
+  int window_periods = 50;  // the steady-state window (TimeIntegrationOptions::window_periods)
+  int windows = 3;          // the run stops after this many windows at most
+  double margin = 0.02;     // relative amplitude margin of "holds"
+  double modal_cutoff_factor = 20.0;
+  bool IsValid(std::string* error) const;
+};
+HoldResult HoldsUnderTimeIntegration(const Model& model, const HarmonicBalance& system,
+                                     const Eigen::VectorXd& x, double omega,
+                                     const Eigen::VectorXd& alpha, const HoldOptions& options = {});
+
+// Hill stability of both bounds of `b` at ω (their x are solutions of `system`): the full balance
+// (dense, up to a companion size of 3000) and the condensed one (modal form); where it cannot be
+// computed each bound's stability says why.
 void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
                           const HillOptions& options = {});
 

@@ -281,6 +281,29 @@ Eigen::MatrixXd CondensedSystem::TimesForceJacobian(int h, const Eigen::MatrixXd
   return out;
 }
 
+Eigen::MatrixXd CondensedSystem::ContactForceJacobian(const Eigen::VectorXd& x,
+                                                      const Eigen::VectorXd& alpha,
+                                                      const std::vector<bool>& as_springs) const {
+  CheckInputs(x, alpha);
+  ContactForces(x, alpha, AftDerivatives{true, false});
+  const int nr = num_relative(), nh = 2 * options_.harmonics + 1;
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(nh * nr, nh * nr);
+  EffectiveForceBlocks e;
+  for (int c = 0; c < num_contacts(); ++c) {
+    if (static_cast<size_t>(c) < as_springs.size() && as_springs[static_cast<size_t>(c)]) continue;
+    EffectiveBlocks(c, &e);
+    const int rt = row_t_[c], rn = row_n_[c];
+    for (int j = 0; j < nh; ++j) {
+      for (int l = 0; l < nh; ++l) {
+        d(j * nr + rt, l * nr + rt) += e.tu(j, l);
+        d(j * nr + rt, l * nr + rn) += e.tv(j, l);
+        d(j * nr + rn, l * nr + rn) += e.nv(j, l);
+      }
+    }
+  }
+  return d;
+}
+
 std::unique_ptr<JacobianOperator> CondensedSystem::Linearize(const Eigen::VectorXd& x, double omega,
                                                              const Eigen::VectorXd& alpha) const {
   CheckInputs(x, alpha);
