@@ -10,6 +10,8 @@ Reads the HDF5 layout written by `fricrom frf`:
   /frf*/freq_hz     float64 [P]   frequency of each point [Hz]
   /frf*/amplitude_m float64 [P]   first-harmonic amplitude of the response DOF [m]
   /frf*/status      strings [P]   "converged" or a failure status
+  /frf*/stable      int [P]       (optional, frf --stability) 1 stable, 0 unstable (dashed), -1 n/a
+  /frf*/jump_before int [P]       (optional) 1 where a trace jumped over a stall (line broken)
   /linear/freq_hz, /linear/free_amplitude_m, /linear/stick_amplitude_m   float64 [F]
 Every root group whose name starts with "frf" is drawn as its own curve (label = the group's
 `label` attribute, else the group name). Non-converged points are marked with red crosses.
@@ -68,7 +70,14 @@ def read_results(path):
             s = _strings(h5, f"{g}/status")
             _same_length(h5, g, ["freq_hz", "amplitude_m", "status"], [f, a, s])
             label = _attr(h5[g], "label", g)
-            res["frf"].append({"name": g, "label": label, "freq": f, "amp": a, "status": s})
+            # Optional: Hill stability per point (1, 0, -1 not computed) and the trace's jumps.
+            stable = np.asarray(h5[f"{g}/stable"][()]) if f"{g}/stable" in h5 else None
+            jump = np.asarray(h5[f"{g}/jump_before"][()]) if f"{g}/jump_before" in h5 else None
+            for name, v in (("stable", stable), ("jump_before", jump)):
+                if v is not None and len(v) != len(f):
+                    raise InputError(f"{path}: {g}/{name} has {len(v)} entries, expected {len(f)}")
+            res["frf"].append({"name": g, "label": label, "freq": f, "amp": a, "status": s,
+                               "stable": stable, "jump": jump})
         lf = _dataset(h5, "linear/freq_hz")
         free = _dataset(h5, "linear/free_amplitude_m")
         stick = _dataset(h5, "linear/stick_amplitude_m")
@@ -104,9 +113,29 @@ def make_figure(res, normalise):
         label = curve["label"]
         if n_ok < len(ok):
             label += f" ({len(ok) - n_ok} of {len(ok)} not converged)"
-        ax.plot(curve["freq"], shown, linestyle="-", linewidth=1.8,
-                marker="." if n_ok < 60 else None, markersize=4,
-                color=colours[i % len(colours)], label=label)
+        freq = np.asarray(curve["freq"], dtype=float)
+        if curve["jump"] is not None:
+            # A jump over a stall: the branch between is not traced, so no line is drawn there.
+            cut = np.flatnonzero(curve["jump"] == 1)
+            freq = np.insert(freq, cut, np.nan)
+            shown = np.insert(shown, cut, np.nan)
+        colour = colours[i % len(colours)]
+        unstable = None
+        if curve["stable"] is not None:
+            flags = np.asarray(curve["stable"])
+            if curve["jump"] is not None:
+                flags = np.insert(flags, np.flatnonzero(curve["jump"] == 1), -1)
+            unstable = flags == 0
+        if unstable is not None and unstable.any():
+            # Unstable stretches dashed (with their neighbours, so the line stays joined).
+            near = unstable | np.roll(unstable, 1) | np.roll(unstable, -1)
+            ax.plot(freq, np.where(~unstable, shown, np.nan), linestyle="-", linewidth=1.8,
+                    color=colour, label=label)
+            ax.plot(freq, np.where(near, shown, np.nan), linestyle="--", linewidth=1.8,
+                    color=colour, label="unstable (Hill)")
+        else:
+            ax.plot(freq, shown, linestyle="-", linewidth=1.8,
+                    marker="." if n_ok < 60 else None, markersize=4, color=colour, label=label)
         reliable.append(shown)
         keep = ~ok & np.isfinite(amp) & np.isfinite(curve["freq"])
         bad_f += list(curve["freq"][keep])

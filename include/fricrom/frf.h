@@ -30,6 +30,18 @@ struct FrfOptions {
   // Frequency continuations SolveAtFrequency tries, nearest first (0.95 f, 1.05 f, 0.9 f, 1.1 f,
   // 0.8 f, 1.25 f, 0.5 f): fewer for callers that solve many points and can lose a few.
   int frequency_fallbacks = 7;
+  // TraceFrf: a trace stalls where its arclength step falls below min_step, or where it crawls —
+  // stall_points points without advancing the frequency past its running extreme by
+  // stall_progress of the range (the kinks of many contacts switching state, each a corner the
+  // step control must shrink for). It then jumps: Newton at a frequency a little ahead (0.25 %
+  // of the range, doubled up to 8 %) from the last point, and traces on from there; at most
+  // max_jumps times. max_jumps = 0: the plain continuation (no crawl guard, no jump).
+  // TraceFrf measures its arclength against the solution's current size
+  // (ContinuationOptions::adapt_x_scale).
+  bool adapt_x_scale = true;
+  int stall_points = 100;
+  double stall_progress = 1e-3;
+  int max_jumps = 20;
   bool IsValid(std::string* error) const;
 };
 
@@ -43,6 +55,9 @@ struct FrfPoint {
   double amplitude = std::numeric_limits<double>::quiet_NaN();
   std::vector<ContactRegime> regimes;
   bool turning_point_before = false;
+  // TraceFrf: this point starts a new trace after a jump over a stall; the branch between it and
+  // the point before is not traced (a fold or a switch of branch may hide there).
+  bool jump_before = false;
 };
 
 // Progress: (points done, points total or −1 when unknown).
@@ -77,10 +92,14 @@ FrfPoint SolveAtFrequency(const HarmonicBalance& system, const Eigen::VectorXd& 
 
 struct FrfTrace {
   std::vector<FrfPoint> points;
+  // Over all segments; reached_end only when the last one reached f_end.
   ContinuationSummary summary;
+  // The stalls jumped over: (frequency of the last traced point, frequency landed on) [Hz].
+  std::vector<std::pair<double, double>> jumps;
 };
 
-// Traces the branch from f_start to f_end by continuation (passing turning points).
+// Traces the branch from f_start to f_end by continuation (passing turning points); where it
+// stalls, jumps ahead and traces on (FrfOptions::stall_points), each jump recorded.
 FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
                   double f_end_hz, const FrfOptions& options, const FrfProgress& progress = {});
 

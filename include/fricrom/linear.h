@@ -21,7 +21,7 @@ struct ModalResult {
 // its massless directions are counted, not listed. Throws std::invalid_argument if M has a
 // negative eigenvalue beyond round-off.
 ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass);
-ModalResult FreeSystemModes(const Model& model);   // blades only: model.free_dofs
+ModalResult FreeSystemModes(const Model& model);  // blades only: model.free_dofs
 // The receptance of the condensed balance where a case does not name one: modal where it is
 // exact and pays — at least `min_dofs` DOFs, a positive definite mass and a damping that the
 // full-stick modes diagonalise (|Φᵀ C Φ| off the diagonal ≤ 1e-8 of its largest entry, as for

@@ -119,6 +119,9 @@ struct ContinuationOptions {
   int max_points = 5000;
   int target_iterations = 4;        // corrector iterations the step control aims for
   double turning_tolerance = 1e-4;  // scaled λ retreat that counts as a turning point
+  // x_scale follows |x| upwards (doubling or more): the arclength of a branch whose solution grows
+  // by orders of magnitude (an FRF into a resonance) is measured against its current size.
+  bool adapt_x_scale = false;
   NewtonOptions corrector;
   bool IsValid(std::string* error) const;
 };

@@ -15,12 +15,15 @@
 
 #include <Eigen/Dense>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "fricrom/bounds.h"
 #include "fricrom/hbm_system.h"
 
 namespace fricrom {
+
+class CondensedSystem;
 
 struct HillOptions {
   // A kept exponent with Re λ above this fraction of ω counts as growing: the solution is unstable.
@@ -55,8 +58,6 @@ HillResult HillStability(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd&
 HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
                          const Eigen::VectorXd& alpha, const HillOptions& options = {});
 
-class CondensedSystem;
-
 // The same at a solution x of the condensed balance `system`: the linear part reduced to the
 // full-stick modes below options.modal_cutoff_factor × f (dynamic) and the contact rows' residual
 // flexibility (quasi-static, eliminated), ∂F̃/∂r from the AFT with the same kt restored for
@@ -65,6 +66,38 @@ class CondensedSystem;
 // direction has no stiffness (a body held only by sliding friction), which needs its mass.
 HillResult HillStability(const CondensedSystem& system, const Eigen::VectorXd& x, double omega,
                          const Eigen::VectorXd& alpha, const HillOptions& options = {});
+
+// The condensed Hill analysis of one balance for many solutions (an FRF's points, both bounds):
+// the full-stick modes and K_s⁻¹ Bᵀ are computed once, at construction (throws
+// std::domain_error if the full-stick stiffness is not positive definite).
+class CondensedHill {
+ public:
+  explicit CondensedHill(const CondensedSystem& system);
+  ~CondensedHill();
+  CondensedHill(const CondensedHill&) = delete;
+  CondensedHill& operator=(const CondensedHill&) = delete;
+  HillResult At(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                const HillOptions& options = {}) const;
+
+ private:
+  struct Modal;
+  const CondensedSystem& system_;
+  std::unique_ptr<Modal> modal_;
+};
+
+// Hill stability of solutions of one balance of any kind (the condensed one's modal data kept
+// between calls).
+class SolutionStability {
+ public:
+  explicit SolutionStability(const HarmonicBalance& system) : system_(system) {}
+  // As HillStabilityOf.
+  HillResult At(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                const HillOptions& options = {});
+
+ private:
+  const HarmonicBalance& system_;
+  std::unique_ptr<CondensedHill> condensed_;
+};
 
 // Hill stability of a solution of any balance: the full one (dense, up to a companion size of
 // 3000 unknowns) or the condensed one (modal form). Throws std::domain_error, saying why, where it
@@ -76,11 +109,13 @@ HillResult HillStabilityOf(const HarmonicBalance& system, const Eigen::VectorXd&
 // The independent check: time integration from the solution's own state at t = 0 (implicit
 // modal scheme, loads fully on; time_integration.h) for a few windows. The solution holds when
 // the run settles at its amplitude within `margin` (the harmonic truncation separates the
-// time-domain amplitude from the HBM's by up to ~1e-2 next to a resonance); a run that settles
-// elsewhere or drifts has left it.
+// time-domain amplitude from the HBM's by up to ~1e-2 next to a resonance) after its windows,
+// settled or still shedding the free vibration its start excites; a run that ends farther away
+// has left it.
 struct HoldResult {
-  bool holds = false;
-  std::string status;  // the run's TimeIntegrationResult status
+  bool holds = false;    // the motion stayed within the margin of the solution
+  bool settled = false;  // ... and reached a steady state (a stable solution may still ring)
+  std::string status;    // the run's TimeIntegrationResult status
   double amplitude = std::numeric_limits<double>::quiet_NaN();           // the run's [m]
   double solution_amplitude = std::numeric_limits<double>::quiet_NaN();  // the HBM's [m]
   int periods = 0;

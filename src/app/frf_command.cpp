@@ -88,6 +88,7 @@ FrfRun SolveFrf(const Case& c, const HarmonicBalance& system, const Eigen::Vecto
                    {"status", ToString(tr.summary.status)},
                    {"message", tr.summary.message},
                    {"turning_points", tr.summary.turning_points},
+                   {"jumps", tr.jumps},
                    {"rejected_steps", tr.summary.rejected_steps},
                    {"evaluations", tr.summary.evaluations}};
     if (!a.as_json && !a.quiet)
@@ -97,9 +98,9 @@ FrfRun SolveFrf(const Case& c, const HarmonicBalance& system, const Eigen::Vecto
   return run;
 }
 
-json HillJson(const HarmonicBalance& system, const FrfPoint& p, const Eigen::VectorXd& alpha) {
+json HillJson(SolutionStability* stability, const FrfPoint& p, const Eigen::VectorXd& alpha) {
   try {
-    const HillResult r = HillStabilityOf(system, p.x, RadPerS(p.freq_hz), alpha);
+    const HillResult r = stability->At(p.x, RadPerS(p.freq_hz), alpha);
     return {{"computed", true},
             {"stable", r.stable},
             {"max_floquet_real_per_s", r.max_real},
@@ -116,6 +117,7 @@ json HoldJson(const Case& c, const HarmonicBalance& system, const FrfPoint& p,
               const Eigen::VectorXd& alpha) {
   const HoldResult h = HoldsUnderTimeIntegration(c.model, system, p.x, RadPerS(p.freq_hz), alpha);
   return {{"holds", h.holds},
+          {"settled", h.settled},
           {"status", h.status},
           {"amplitude", std::isfinite(h.amplitude) ? json(h.amplitude) : json(nullptr)},
           {"periods", h.periods},
@@ -129,11 +131,12 @@ void CheckFrfPoints(const Case& c, const HarmonicBalance& system, const Eigen::V
                     const FrfArgs& a, FrfRun* run) {
   if (!a.stability && !a.time_check) return;
   const bool show_progress = !a.quiet && !a.as_json && isatty(STDERR_FILENO);
+  SolutionStability stability(system);
   for (size_t i = 0; i < run->points.size(); ++i) {
     const FrfPoint& p = run->points[i];
     json j = json::object();
     const bool solved = p.status == SolverStatus::kConverged;
-    if (a.stability) j["stability"] = solved ? HillJson(system, p, alpha) : json(nullptr);
+    if (a.stability) j["stability"] = solved ? HillJson(&stability, p, alpha) : json(nullptr);
     if (a.time_check) j["time_check"] = solved ? HoldJson(c, system, p, alpha) : json(nullptr);
     run->checks.push_back(j);
     if (show_progress) {
@@ -195,6 +198,9 @@ void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& sy
     for (size_t k = 0; k < c.model.contacts.size(); ++k)
       regimes.push_back(RegimeName(points[i], k));
   }
+  std::vector<int> jumps;
+  for (const FrfPoint& p : points) jumps.push_back(p.jump_before ? 1 : 0);
+  h5.IntVector("frf/jump_before", jumps);
   h5.Vector("frf/freq_hz", f);
   h5.Vector("frf/amplitude_m", amp);
   h5.Strings("frf/status", status);
@@ -295,6 +301,7 @@ void PrintFrfJson(const Case& c, const Eigen::VectorXd& alpha, const FrfRun& run
         {"status", ToString(p.status)},
         {"iterations", p.iterations},
         {"states", s}};
+    if (p.jump_before) point["jump_before"] = true;
     if (i < run.checks.size()) point.update(run.checks[i]);
     pts.push_back(point);
   }
@@ -306,6 +313,14 @@ void PrintFrfJson(const Case& c, const Eigen::VectorXd& alpha, const FrfRun& run
 
 // Per checked point: Hill's verdict and the time integration's, on a line each.
 void PrintFrfChecks(const FrfRun& run) {
+  if (run.checks.size() > 20) {
+    int counts[3] = {0, 0, 0};  // not computed, unstable, stable
+    for (size_t i = 0; i < run.checks.size(); ++i)
+      ++counts[CheckFlag(run, i, "stability", "stable") + 1];
+    std::cout << "  Hill stability: " << counts[2] << " stable, " << counts[1] << " unstable, "
+              << counts[0] << " not computed of " << run.checks.size() << " points\n";
+    return;
+  }
   for (size_t i = 0; i < run.checks.size(); ++i) {
     const json& j = run.checks[i];
     std::ostringstream line;

@@ -20,6 +20,7 @@
 #include "fricrom/bound_search.h"
 #include "fricrom/bounds.h"
 #include "fricrom/certification.h"
+#include "fricrom/stability.h"
 #include "fricrom/time_integration.h"
 #include "fricrom/units.h"
 #include "io/atomic_file.h"
@@ -160,6 +161,43 @@ json CertificateJson(const Certificate& c, const std::vector<json>& run_states) 
   return j;
 }
 
+// Both bound solutions judged twice: Hill's Floquet exponents and the time integration from the
+// solution's own state (stability.h). Reported, not part of the certificate: a bound is the
+// extreme of the harmonic-balance solutions, stable or not; the two routes should agree.
+json BoundStabilityJson(const Case& c, const HarmonicBalance& system, const Certificate& cert) {
+  json out = json::object();
+  SolutionStability stability(system);
+  const double omega = RadPerS(cert.freq_hz);
+  for (const auto& [name, s] :
+       {std::pair<const char*, const BoundSolution*>{"min", &cert.bounds.min},
+        {"max", &cert.bounds.max}}) {
+    if (!s->IsUsable()) {
+      out[name] = nullptr;
+      continue;
+    }
+    json hill;
+    bool hill_stable = false, computed = false;
+    try {
+      const HillResult r = stability.At(s->x, omega, s->alpha);
+      computed = true;
+      hill_stable = r.stable;
+      hill = {{"stable", r.stable}, {"max_floquet_real_per_s", r.max_real}, {"note", r.message}};
+    } catch (const std::domain_error& e) {
+      hill = {{"stable", nullptr}, {"note", std::string("not computed: ") + e.what()}};
+    }
+    const HoldResult h = HoldsUnderTimeIntegration(c.model, system, s->x, omega, s->alpha);
+    out[name] = {{"hill", hill},
+                 {"time_integration",
+                  {{"holds", h.holds},
+                   {"settled", h.settled},
+                   {"amplitude", Num(h.amplitude)},
+                   {"periods", h.periods},
+                   {"message", h.message}}},
+                 {"agree", computed ? json(hill_stable == h.holds) : json(nullptr)}};
+  }
+  return out;
+}
+
 // The certificate `j` as text on stdout.
 void PrintCertification(const json& j, const std::filesystem::path& file) {
   const auto num = [](const json& v) {
@@ -192,6 +230,19 @@ void PrintCertification(const json& j, const std::filesystem::path& file) {
   }
   for (const json& r : j.at("time_integration")) {
     std::cout << "  time integration: " << r.dump() << "\n";
+  }
+  if (j.contains("bound_stability")) {
+    for (const char* name : {"min", "max"}) {
+      const json& b = j["bound_stability"][name];
+      if (b.is_null()) continue;
+      const json& h = b["hill"];
+      std::cout << "  y_" << name << " solution: Hill "
+                << (h["stable"].is_null()     ? "not computed"
+                    : h["stable"].get<bool>() ? "stable"
+                                              : "UNSTABLE")
+                << "; time integration from it: "
+                << b["time_integration"]["message"].get<std::string>() << "\n";
+    }
   }
   const bool certified = j.at("certified").get<bool>();
   std::cout << "  " << (certified ? "CERTIFIED" : "NOT CERTIFIED") << "\n";
@@ -256,6 +307,7 @@ int DesignCommands::State::RunVerify() {
               << " solution(s) beyond the bounds restarted the bound optimisation\n";
   }
   json j = CertificateJson(cert, states);
+  j["bound_stability"] = BoundStabilityJson(c, system, cert);
   j["wall_s"] = Seconds(t0);
   // The certificate is kept beside the other results (--out), not only on stdout.
   const std::filesystem::path file = OutDir(c, "verify") / "verify.json";

@@ -334,6 +334,18 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
       return summary;
     }
     ds = NextStep(options, ds, cs.iterations);
+    // The arclength measures x against x_scale: where the solution has grown well beyond it (a
+    // resonance of a response that started small), steps of max_step crawl in λ. The scale
+    // follows the solution's size upwards, the state and tangent rescaled with it.
+    const double size = s.xs * z.head(n).norm();
+    if (options.adapt_x_scale && size > 2.0 * s.xs) {
+      const double shrink = s.xs / size;
+      z.head(n) *= shrink;
+      tau.head(n) *= shrink;
+      tau.normalize();
+      s.xs = size;
+      lu.reset();
+    }
   }
   summary.status = ContinuationStatus::kMaxPoints;
   return summary;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include "fricrom/units.h"
@@ -52,6 +53,10 @@ bool FrfOptions::IsValid(std::string* error) const {
   }
   if (max_points < 1 || fallback_max_points < 1) {
     *error = "FrfOptions.max_points and fallback_max_points must be >= 1";
+    return false;
+  }
+  if (stall_points < 1 || !(stall_progress >= 0.0 && stall_progress < 1.0) || max_jumps < 0) {
+    *error = "FrfOptions: stall_points >= 1, stall_progress in [0, 1), max_jumps >= 0";
     return false;
   }
   if (frequency_fallbacks < 0 || frequency_fallbacks > 7) {
@@ -406,16 +411,24 @@ std::vector<FrfPoint> SolveAtFrequencies(const HarmonicBalance& system,
   return points;
 }
 
-FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
-                  double f_end_hz, const FrfOptions& options, const FrfProgress& progress) {
-  std::string error;
-  if (!options.IsValid(&error)) throw std::invalid_argument(error);
-  FrfTrace trace;
-  const Eigen::VectorXd x0 = system.StickLinearSolution(RadPerS(f_start_hz));
+namespace {
+
+// One continuation segment of TraceFrf from x0 at f0 towards f1, its points appended; stopped
+// early where it crawls (FrfOptions::stall_points).
+ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
+                                 double f0, double f1, const Eigen::VectorXd& x0,
+                                 const FrfOptions& options, int max_points, bool crawl_guard,
+                                 const FrfProgress& progress, FrfTrace* trace, bool* crawled) {
   HbmFrequencyFamily family(system, alpha);
-  const ContinuationOptions copt =
-      MakeContinuationOptions(system, options, f_start_hz, f_end_hz, x0);
-  trace.summary = Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
+  ContinuationOptions copt = MakeContinuationOptions(system, options, f0, f1, x0);
+  copt.max_points = max_points;
+  copt.adapt_x_scale = options.adapt_x_scale;
+  const double dir = f1 > f0 ? 1.0 : -1.0, min_gain = options.stall_progress * std::abs(f1 - f0);
+  double best = f0;
+  int since_best = 0;
+  *crawled = false;
+  const size_t first = trace->points.size();
+  return Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
     FrfPoint p;
     p.freq_hz = Hz(cp.lambda);
     p.x = cp.x;
@@ -424,10 +437,95 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
     p.amplitude = system.Amplitude(cp.x);
     p.regimes = Regimes(system, cp.x, cp.lambda, alpha);
     p.turning_point_before = cp.turning_point_before;
-    trace.points.push_back(std::move(p));
-    if (progress) progress(static_cast<int>(trace.points.size()), -1);
+    p.jump_before = trace->points.size() == first && first > 0;
+    trace->points.push_back(std::move(p));
+    if (progress) progress(static_cast<int>(trace->points.size()), -1);
+    if (crawl_guard && dir * (Hz(cp.lambda) - f0) < -min_gain) {
+      *crawled = true;  // turned back out of the range: nothing to trace there
+      return false;
+    }
+    if (dir * (Hz(cp.lambda) - best) > min_gain) {
+      best = Hz(cp.lambda);
+      since_best = 0;
+    } else if (crawl_guard && ++since_best >= options.stall_points) {
+      *crawled = true;
+      return false;
+    }
     return true;
   });
+}
+
+void Accumulate(const ContinuationSummary& s, ContinuationSummary* total) {
+  total->points += s.points;
+  total->turning_points += s.turning_points;
+  total->rejected_steps += s.rejected_steps;
+  total->evaluations += s.evaluations;
+  total->status = s.status;
+  total->message = s.message;
+}
+
+}  // namespace
+
+FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double f_start_hz,
+                  double f_end_hz, const FrfOptions& options, const FrfProgress& progress) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  FrfTrace trace;
+  trace.summary.points = 0;
+  const double range = std::abs(f_end_hz - f_start_hz), dir = f_end_hz > f_start_hz ? 1.0 : -1.0;
+  double f0 = f_start_hz;
+  Eigen::VectorXd x0 = system.StickLinearSolution(RadPerS(f_start_hz));
+  for (int segment = 0;; ++segment) {
+    bool crawled = false;
+    const int left = options.max_points - trace.summary.points;
+    const ContinuationSummary s =
+        TraceSegment(system, alpha, f0, f_end_hz, x0, options, std::max(left, 1),
+                     options.max_jumps > 0, progress, &trace, &crawled);
+    Accumulate(s, &trace.summary);
+    if (crawled) {
+      trace.summary.status = ContinuationStatus::kStepTooSmall;
+      trace.summary.message = dir * (trace.points.back().freq_hz - f0) < 0.0
+                                  ? "the branch turned back out of the range at " +
+                                        std::to_string(trace.points.back().freq_hz) + " Hz"
+                                  : "crawling: " + std::to_string(options.stall_points) +
+                                        " points without advancing past " +
+                                        std::to_string(trace.points.back().freq_hz) + " Hz";
+    }
+    const bool stalled = s.status == ContinuationStatus::kStepTooSmall || crawled;
+    if (!stalled || segment >= options.max_jumps || trace.points.empty() ||
+        trace.summary.points >= options.max_points) {
+      break;
+    }
+    // Jump: Newton a little ahead of the furthest point traced, from it.
+    const FrfPoint* from = &trace.points.back();
+    for (const FrfPoint& p : trace.points) {
+      if (dir * (p.freq_hz - from->freq_hz) > 0.0) from = &p;
+    }
+    bool landed = false;
+    for (double step = 0.0025 * range; step <= 0.08 * range && !landed; step *= 2.0) {
+      const double f = from->freq_hz + dir * step;
+      if (dir * (f - f_end_hz) > 0.0) break;
+      FrfOptions quick = options;
+      quick.use_fallbacks = false;
+      const FrfPoint p = SolveAtFrequency(system, alpha, f, from->x, quick);
+      if (p.status != SolverStatus::kConverged) continue;
+      trace.jumps.emplace_back(from->freq_hz, f);
+      f0 = f;
+      x0 = p.x;
+      landed = true;
+    }
+    if (!landed) {
+      trace.summary.message += "; no jump past the stall converged";
+      break;
+    }
+  }
+  if (!trace.jumps.empty()) {
+    std::ostringstream os;
+    os << trace.summary.message << (trace.summary.message.empty() ? "" : "; ") << trace.jumps.size()
+       << " jump(s) over stalls, the branch untraced between";
+    for (const auto& [a, b] : trace.jumps) os << " " << a << "->" << b << " Hz";
+    trace.summary.message = os.str();
+  }
   return trace;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,46 +19,13 @@
 namespace fricrom {
 namespace {
 
-// Full-stick modes below the cutoff (mass-normalised, at least one) and the residual attachments
-// of the contact rows, Ψ = (K_s⁻¹ − Φ Λ⁻¹ Φᵀ) Bᵀ made K-orthonormal (rank-deficient directions
-// dropped). Both are K- and M-orthogonal to each other.
+// The reduced basis at one cutoff: full-stick modes below it (mass-normalised, at least one) and
+// the residual attachments of the contact rows, Ψ = (K_s⁻¹ − Φ Λ⁻¹ Φᵀ) Bᵀ made K-orthonormal
+// (rank-deficient directions dropped). Both are K- and M-orthogonal to each other.
 struct HillBasis {
   Eigen::MatrixXd phi, psi;
   Eigen::VectorXd lambda;  // ω_j² of phi's modes
 };
-
-HillBasis ReduceForHill(const Eigen::MatrixXd& k_stick, const Eigen::MatrixXd& mass,
-                        const Eigen::MatrixXd& b, double cutoff_hz) {
-  const ModalResult modes = ComputeModes(k_stick, mass);
-  int m = 0;
-  while (m < modes.frequencies_hz.size() && modes.frequencies_hz[m] < cutoff_hz) ++m;
-  m = std::max(m, 1);
-  HillBasis basis;
-  basis.phi = modes.shapes.leftCols(m);
-  basis.lambda = modes.frequencies_hz.head(m).unaryExpr(&EigenvalueFromHz);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(k_stick);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
-    throw std::domain_error("the full-stick stiffness is not positive definite");
-  }
-  const Eigen::MatrixXd bt = b.transpose();
-  const Eigen::MatrixXd psi =
-      ldlt.solve(bt) -
-      basis.phi * (basis.lambda.cwiseInverse().asDiagonal() * (basis.phi.transpose() * bt));
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(psi.transpose() * k_stick * psi);
-  const Eigen::VectorXd ev = gram.eigenvalues();
-  // Relative to the whole flexibility B K_s⁻¹ Bᵀ: with every mode kept the residual is round-off.
-  const double floor = 1e-10 * (bt.transpose() * ldlt.solve(bt)).diagonal().maxCoeff();
-  std::vector<int> keep;
-  for (int i = 0; i < ev.size(); ++i) {
-    if (ev[i] > floor && ev[i] > 0.0) keep.push_back(i);
-  }
-  basis.psi.resize(k_stick.rows(), static_cast<Eigen::Index>(keep.size()));
-  for (size_t i = 0; i < keep.size(); ++i) {
-    basis.psi.col(static_cast<Eigen::Index>(i)) =
-        psi * gram.eigenvectors().col(keep[i]) / std::sqrt(ev[keep[i]]);
-  }
-  return basis;
-}
 
 // The reduced balance's linear blocks (hbm_system.h layout over q = m + p coordinates): the modes
 // with Λ, I and Φᵀ C Φ, the residual coordinates with their unit stiffness only (massless).
@@ -83,15 +51,61 @@ Eigen::MatrixXd ReducedLinearJacobian(const HillBasis& basis, const Eigen::Matri
 
 }  // namespace
 
-HillResult HillStability(const CondensedSystem& system, const Eigen::VectorXd& x, double omega,
-                         const Eigen::VectorXd& alpha, const HillOptions& options) {
+struct CondensedHill::Modal {
+  ModalResult modes;        // full-stick modes of the whole model
+  Eigen::MatrixXd k_s;      // K + Bᵀ K_s B
+  Eigen::MatrixXd flex;     // K_s⁻¹ Bᵀ
+  double flex_floor = 0.0;  // rank threshold of the residual attachments
+};
+
+CondensedHill::CondensedHill(const CondensedSystem& system)
+    : system_(system), modal_(std::make_unique<Modal>()) {
+  const Model& model = system.model();
+  modal_->k_s = model.stiffness + ContactStickStiffness(model);
+  modal_->modes = ComputeModes(modal_->k_s, model.mass);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(modal_->k_s);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+    throw std::domain_error("the full-stick stiffness is not positive definite");
+  }
+  const Eigen::MatrixXd bt = system.relative_operator().transpose();
+  modal_->flex = ldlt.solve(bt);
+  // Relative to the whole flexibility B K_s⁻¹ Bᵀ: with every mode kept the residual is round-off.
+  modal_->flex_floor = 1e-10 * (bt.transpose() * modal_->flex).diagonal().maxCoeff();
+}
+
+CondensedHill::~CondensedHill() = default;
+
+HillResult CondensedHill::At(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& alpha,
+                             const HillOptions& options) const {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument(error);
+  const CondensedSystem& system = system_;
   const Model& model = system.model();
   const int nh = 2 * system.harmonics() + 1, nr = system.num_relative();
-  const HillBasis basis =
-      ReduceForHill(model.stiffness + ContactStickStiffness(model), model.mass,
-                    system.relative_operator(), options.modal_cutoff_factor * Hz(omega));
+  const ModalResult& modes = modal_->modes;
+  HillBasis basis;
+  Eigen::Index kept = 0;
+  while (kept < modes.frequencies_hz.size() &&
+         modes.frequencies_hz[kept] < options.modal_cutoff_factor * Hz(omega)) {
+    ++kept;
+  }
+  kept = std::max<Eigen::Index>(kept, 1);
+  basis.phi = modes.shapes.leftCols(kept);
+  basis.lambda = modes.frequencies_hz.head(kept).unaryExpr(&EigenvalueFromHz);
+  const Eigen::MatrixXd bt = system.relative_operator().transpose();
+  const Eigen::MatrixXd psi = modal_->flex - basis.phi * (basis.lambda.cwiseInverse().asDiagonal() *
+                                                          (basis.phi.transpose() * bt));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(psi.transpose() * modal_->k_s * psi);
+  const Eigen::VectorXd ev = gram.eigenvalues();
+  std::vector<int> keep;
+  for (int i = 0; i < ev.size(); ++i) {
+    if (ev[i] > modal_->flex_floor && ev[i] > 0.0) keep.push_back(i);
+  }
+  basis.psi.resize(model.num_dofs(), static_cast<Eigen::Index>(keep.size()));
+  for (size_t i = 0; i < keep.size(); ++i) {
+    basis.psi.col(static_cast<Eigen::Index>(i)) =
+        psi * gram.eigenvectors().col(keep[i]) / std::sqrt(ev[keep[i]]);
+  }
   const Eigen::Index m = basis.phi.cols(), p = basis.psi.cols(), q = m + p;
   // As for the full balance: a contact stuck over the whole period holds a perturbation with its
   // stick springs in every harmonic — F̃ = F_c − K_s r adds nothing for it.
@@ -137,6 +151,11 @@ HillResult HillStability(const CondensedSystem& system, const Eigen::VectorXd& x
       std::to_string(static_cast<int>(std::lround(options.modal_cutoff_factor * Hz(omega)))) +
       " Hz, " + std::to_string(p) + " residual directions quasi-static)";
   return r;
+}
+
+HillResult HillStability(const CondensedSystem& system, const Eigen::VectorXd& x, double omega,
+                         const Eigen::VectorXd& alpha, const HillOptions& options) {
+  return CondensedHill(system).At(x, omega, alpha, options);
 }
 
 }  // namespace fricrom

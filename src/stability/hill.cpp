@@ -186,6 +186,15 @@ HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, doub
   return HillStability(e.jacobian, model.mass, model.damping, system.harmonics(), omega, options);
 }
 
+HillResult SolutionStability::At(const Eigen::VectorXd& x, double omega,
+                                 const Eigen::VectorXd& alpha, const HillOptions& options) {
+  if (const auto* condensed = dynamic_cast<const CondensedSystem*>(&system_)) {
+    if (!condensed_) condensed_ = std::make_unique<CondensedHill>(*condensed);
+    return condensed_->At(x, omega, alpha, options);
+  }
+  return HillStabilityOf(system_, x, omega, alpha, options);
+}
+
 HillResult HillStabilityOf(const HarmonicBalance& system, const Eigen::VectorXd& x, double omega,
                            const Eigen::VectorXd& alpha, const HillOptions& options) {
   if (const auto* condensed = dynamic_cast<const CondensedSystem*>(&system)) {
@@ -205,6 +214,7 @@ HillResult HillStabilityOf(const HarmonicBalance& system, const Eigen::VectorXd&
 
 void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
                           const HillOptions& options) {
+  SolutionStability stability(system);
   for (BoundSolution* s : {&b->min, &b->max}) {
     s->stability = {};
     if (!s->IsUsable()) {
@@ -212,7 +222,7 @@ void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsRes
       continue;
     }
     try {
-      const HillResult r = HillStabilityOf(system, s->x, omega, s->alpha, options);
+      const HillResult r = stability.At(s->x, omega, s->alpha, options);
       s->stability.computed = true;
       s->stability.stable = r.stable;
       s->stability.max_floquet_real = r.max_real;

@@ -99,6 +99,39 @@ TEST(Frf, ContinuationPassesTheTurningPointsOfALiftOffOscillator) {
   EXPECT_NEAR(tr.points.back().freq_hz, 45.0, 1e-9);
 }
 
+// A trace that stalls jumps ahead and traces on. Forced here by a crawl guard no trace can meet
+// (8 points to advance by a third of the range left): every jump is recorded, the point after it
+// flagged, every point solves the balance and the trace reaches the end. max_jumps = 0 is the
+// plain continuation: no guard, no jump.
+TEST(Frf, AStalledTraceJumpsAheadAndReachesTheEnd) {
+  const Case cs = testing::LoadBaseline();
+  HbmSystem sys(cs.model, HbmOptions{1, 128});
+  const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
+  FrfOptions opt;
+  opt.stall_points = 8;
+  opt.stall_progress = 0.3;
+  opt.max_jumps = 100;
+  const FrfTrace tr = TraceFrf(sys, alpha, 255.0, 275.0, opt);
+  EXPECT_EQ(tr.summary.status, ContinuationStatus::kReachedEnd) << tr.summary.BriefReport();
+  ASSERT_GE(tr.jumps.size(), 1u);
+  int flagged = 0;
+  HbmEvaluation e;
+  for (const FrfPoint& p : tr.points) {
+    flagged += p.jump_before;
+    sys.Evaluate(p.x, kTwoPi * p.freq_hz, alpha, HbmRequest{}, &e);
+    EXPECT_LE(e.residual.norm(), 1e-9 * sys.ResidualScale()) << p.freq_hz;
+  }
+  EXPECT_EQ(flagged, static_cast<int>(tr.jumps.size()));
+  for (const auto& [from, to] : tr.jumps) EXPECT_GT(to, from);
+  EXPECT_NEAR(tr.points.back().freq_hz, 275.0, 1e-9);
+  EXPECT_NE(tr.summary.message.find("jump"), std::string::npos);
+  opt.max_jumps = 0;
+  const FrfTrace plain = TraceFrf(sys, alpha, 255.0, 275.0, opt);
+  EXPECT_EQ(plain.summary.status, ContinuationStatus::kReachedEnd);
+  EXPECT_TRUE(plain.jumps.empty());
+  for (const FrfPoint& p : plain.points) EXPECT_FALSE(p.jump_before);
+}
+
 // The lumped benchmark near resonance: α changes the response (the paper's non-uniqueness).
 TEST(Frf, AlphaChangesTheBaselineResponseNearResonance) {
   const Case cs = testing::LoadBaseline();
