@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fricrom/bounds.h"
 #include "fricrom/hbm_system.h"
@@ -40,6 +41,12 @@ struct HillResult {
   Eigen::VectorXcd exponents;  // the 2n kept Floquet exponents [1/s], by decreasing real part
   double max_real = 0.0;       // the largest Re λ [1/s]
   bool stable = false;
+  // Contacts that switch between stick and slip within the period: the AFT linearises a
+  // non-smooth law along its samples there, and the verdict is an approximation that time
+  // integration from the solution decides (measured on the FE cascade: growing exponents of
+  // +500 1/s at solutions the run stays on).
+  int switching_contacts = 0;
+  bool approximate() const { return switching_contacts > 0; }
   std::string message;  // why, in a line
   std::string BriefReport() const;
 };
@@ -84,6 +91,9 @@ class CondensedHill {
   const CondensedSystem& system_;
   std::unique_ptr<Modal> modal_;
 };
+
+// Counts the contacts of `regimes` that switch between stick and slip into r (and its message).
+void NoteSwitchingContacts(const std::vector<ContactRegime>& regimes, HillResult* r);
 
 // Hill stability of solutions of one balance of any kind (the condensed one's modal data kept
 // between calls).

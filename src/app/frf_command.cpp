@@ -103,11 +103,15 @@ json HillJson(SolutionStability* stability, const FrfPoint& p, const Eigen::Vect
     const HillResult r = stability->At(p.x, RadPerS(p.freq_hz), alpha);
     return {{"computed", true},
             {"stable", r.stable},
+            {"approximate", r.approximate()},
+            {"switching_contacts", r.switching_contacts},
             {"max_floquet_real_per_s", r.max_real},
             {"note", r.message}};
   } catch (const std::domain_error& e) {
     return {{"computed", false},
             {"stable", nullptr},
+            {"approximate", nullptr},
+            {"switching_contacts", nullptr},
             {"max_floquet_real_per_s", nullptr},
             {"note", std::string("not computed: ") + e.what()}};
   }
@@ -237,9 +241,14 @@ void WriteFrfHdf5(const fs::path& path, const Case& c, const HarmonicBalance& sy
                      "DOFs in dof_names order");
   h5.Attribute("frf", "regimes_layout", "flattened [point][contact]");
   std::ostringstream label;
-  label << "HBM (H = " << c.analysis.harmonics << "), alpha = (";
-  for (int i = 0; i < alpha.size(); ++i) label << (i ? ", " : "") << alpha[i];
-  label << ")";
+  label << "HBM (H = " << c.analysis.harmonics << "), alpha = ";
+  if (alpha.size() <= 8) {
+    label << "(";
+    for (int i = 0; i < alpha.size(); ++i) label << (i ? ", " : "") << alpha[i];
+    label << ")";
+  } else {
+    label << alpha.size() << " values (frf/alpha)";
+  }
   h5.Attribute("frf", "label", label.str());
   h5.Attribute("frf", "harmonics", static_cast<double>(c.analysis.harmonics));
   h5.Attribute("frf", "samples_per_period", static_cast<double>(c.analysis.samples_per_period));
@@ -332,9 +341,10 @@ void PrintFrfChecks(const FrfRun& run) {
       } else if (!h["computed"].get<bool>()) {
         line << " Hill " << h["note"].get<std::string>();
       } else {
-        line << " Hill " << (h["stable"].get<bool>() ? "stable" : "UNSTABLE") << " (largest Re "
-             << std::scientific << std::setprecision(3) << h["max_floquet_real_per_s"].get<double>()
-             << " 1/s)";
+        line << " Hill " << (h["stable"].get<bool>() ? "stable" : "UNSTABLE")
+             << (h["approximate"].get<bool>() ? " (approximate: stick-slip)" : "")
+             << " (largest Re " << std::scientific << std::setprecision(3)
+             << h["max_floquet_real_per_s"].get<double>() << " 1/s)";
       }
     }
     if (j.contains("time_check") && !j["time_check"].is_null()) {

@@ -62,7 +62,11 @@ CondensedHill::CondensedHill(const CondensedSystem& system)
     : system_(system), modal_(std::make_unique<Modal>()) {
   const Model& model = system.model();
   modal_->k_s = model.stiffness + ContactStickStiffness(model);
-  modal_->modes = ComputeModes(modal_->k_s, model.mass);
+  try {
+    modal_->modes = ComputeModes(modal_->k_s, model.mass);
+  } catch (const std::invalid_argument& e) {
+    throw std::domain_error(e.what());  // a mass the modes cannot use: not computed, said why
+  }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(modal_->k_s);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
     throw std::domain_error("the full-stick stiffness is not positive definite");
@@ -150,6 +154,7 @@ HillResult CondensedHill::At(const Eigen::VectorXd& x, double omega, const Eigen
       " (" + std::to_string(m) + " full-stick modes below " +
       std::to_string(static_cast<int>(std::lround(options.modal_cutoff_factor * Hz(omega)))) +
       " Hz, " + std::to_string(p) + " residual directions quasi-static)";
+  NoteSwitchingContacts(regimes, &r);
   return r;
 }
 

@@ -66,6 +66,19 @@ Eigen::MatrixXd Derivative(int harmonics, double omega) {
 
 }  // namespace
 
+void NoteSwitchingContacts(const std::vector<ContactRegime>& regimes, HillResult* r) {
+  r->switching_contacts = 0;
+  for (ContactRegime g : regimes) {
+    r->switching_contacts +=
+        g == ContactRegime::kStickSlip || g == ContactRegime::kStickSlipLiftOff ? 1 : 0;
+  }
+  if (r->switching_contacts > 0) {
+    r->message += "; approximate: " + std::to_string(r->switching_contacts) +
+                  " contact(s) switch between stick and slip (a sampled non-smooth law), time "
+                  "integration from the solution decides (frf --time-check, verify)";
+  }
+}
+
 HillResult HillStability(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd& mass,
                          const Eigen::MatrixXd& damping, int harmonics, double omega,
                          const HillOptions& options) {
@@ -183,7 +196,10 @@ HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, doub
     for (int c = 0; c < system.num_coefficients(); ++c)
       e.jacobian.block(c * n, c * n, n, n) += springs;
   }
-  return HillStability(e.jacobian, model.mass, model.damping, system.harmonics(), omega, options);
+  HillResult r =
+      HillStability(e.jacobian, model.mass, model.damping, system.harmonics(), omega, options);
+  NoteSwitchingContacts(regimes, &r);
+  return r;
 }
 
 HillResult SolutionStability::At(const Eigen::VectorXd& x, double omega,
