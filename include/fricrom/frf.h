@@ -31,17 +31,17 @@ struct FrfOptions {
   // 0.8 f, 1.25 f, 0.5 f): fewer for callers that solve many points and can lose a few.
   int frequency_fallbacks = 7;
   // TraceFrf: a trace stalls where its arclength step falls below min_step, or where it crawls —
-  // stall_points points without advancing the frequency past its running extreme by
-  // stall_progress of the range (the kinks of many contacts switching state, each a corner the
-  // step control must shrink for). It then jumps: Newton at a frequency a little ahead (0.25 %
-  // of the range, doubled up to 8 %) from the last point, and traces on from there; at most
-  // max_jumps times. max_jumps = 0: the plain continuation (no crawl guard, no jump).
+  // stall_points consecutive steps shorter than crawl_step × max_step (scaled arclength, x
+  // against the largest solution so far): the kinks of many contacts switching state, each a
+  // corner the step control must shrink for. (A fold is no crawl: its steps keep their length.)
+  // It then jumps: Newton at a frequency a little ahead (0.25 % of the range, doubled up to 8 %)
+  // from the furthest point, and traces on from there; at most max_jumps times.
   // TraceFrf measures its arclength against the solution's current size
   // (ContinuationOptions::adapt_x_scale).
   bool adapt_x_scale = true;
   int stall_points = 100;
-  double stall_progress = 1e-3;
-  int max_jumps = 20;
+  double crawl_step = 0.05;
+  int max_jumps = 20;  // 0: the plain continuation (no crawl guard, no jump)
   bool IsValid(std::string* error) const;
 };
 

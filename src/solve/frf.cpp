@@ -55,8 +55,8 @@ bool FrfOptions::IsValid(std::string* error) const {
     *error = "FrfOptions.max_points and fallback_max_points must be >= 1";
     return false;
   }
-  if (stall_points < 1 || !(stall_progress >= 0.0 && stall_progress < 1.0) || max_jumps < 0) {
-    *error = "FrfOptions: stall_points >= 1, stall_progress in [0, 1), max_jumps >= 0";
+  if (stall_points < 1 || !(crawl_step >= 0.0) || max_jumps < 0) {
+    *error = "FrfOptions: stall_points >= 1, crawl_step >= 0, max_jumps >= 0";
     return false;
   }
   if (frequency_fallbacks < 0 || frequency_fallbacks > 7) {
@@ -423,9 +423,10 @@ ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::Vec
   ContinuationOptions copt = MakeContinuationOptions(system, options, f0, f1, x0);
   copt.max_points = max_points;
   copt.adapt_x_scale = options.adapt_x_scale;
-  const double dir = f1 > f0 ? 1.0 : -1.0, min_gain = options.stall_progress * std::abs(f1 - f0);
-  double best = f0;
-  int since_best = 0;
+  const double dir = f1 > f0 ? 1.0 : -1.0, range = std::abs(f1 - f0);
+  const double back = 1e-3 * range;  // how far out of the range a trace may turn back
+  double x_size = x0.norm();
+  int short_steps = 0;
   *crawled = false;
   const size_t first = trace->points.size();
   return Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
@@ -440,16 +441,23 @@ ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::Vec
     p.jump_before = trace->points.size() == first && first > 0;
     trace->points.push_back(std::move(p));
     if (progress) progress(static_cast<int>(trace->points.size()), -1);
-    if (crawl_guard && dir * (Hz(cp.lambda) - f0) < -min_gain) {
+    if (!crawl_guard) return true;
+    if (dir * (Hz(cp.lambda) - f0) < -back) {
       *crawled = true;  // turned back out of the range: nothing to trace there
       return false;
     }
-    if (dir * (Hz(cp.lambda) - best) > min_gain) {
-      best = Hz(cp.lambda);
-      since_best = 0;
-    } else if (crawl_guard && ++since_best >= options.stall_points) {
-      *crawled = true;
-      return false;
+    const FrfPoint& now = trace->points.back();
+    if (trace->points.size() > first + 1) {
+      const FrfPoint& before = trace->points[trace->points.size() - 2];
+      x_size = std::max(x_size, now.x.norm());
+      const double df = (now.freq_hz - before.freq_hz) / range;
+      const double dx = (now.x - before.x).norm() / std::max(x_size, 1e-300);
+      const bool is_short = std::sqrt(df * df + dx * dx) < options.crawl_step * options.max_step;
+      short_steps = is_short ? short_steps + 1 : 0;
+      if (short_steps >= options.stall_points) {
+        *crawled = true;
+        return false;
+      }
     }
     return true;
   });
@@ -488,7 +496,7 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
                                   ? "the branch turned back out of the range at " +
                                         std::to_string(trace.points.back().freq_hz) + " Hz"
                                   : "crawling: " + std::to_string(options.stall_points) +
-                                        " points without advancing past " +
+                                        " short steps in a row at " +
                                         std::to_string(trace.points.back().freq_hz) + " Hz";
     }
     const bool stalled = s.status == ContinuationStatus::kStepTooSmall || crawled;
@@ -502,18 +510,31 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
       if (dir * (p.freq_hz - from->freq_hz) > 0.0) from = &p;
     }
     bool landed = false;
+    bool at_end = false;
     for (double step = 0.0025 * range; step <= 0.08 * range && !landed; step *= 2.0) {
-      const double f = from->freq_hz + dir * step;
-      if (dir * (f - f_end_hz) > 0.0) break;
+      // A jump that would pass the end lands on it, and the trace is complete.
+      at_end = dir * (from->freq_hz + dir * step - f_end_hz) >= 0.0;
+      const double f = at_end ? f_end_hz : from->freq_hz + dir * step;
       FrfOptions quick = options;
       quick.use_fallbacks = false;
-      const FrfPoint p = SolveAtFrequency(system, alpha, f, from->x, quick);
-      if (p.status != SolverStatus::kConverged) continue;
+      FrfPoint p = SolveAtFrequency(system, alpha, f, from->x, quick);
+      if (p.status != SolverStatus::kConverged) {
+        if (at_end) break;
+        continue;
+      }
       trace.jumps.emplace_back(from->freq_hz, f);
       f0 = f;
       x0 = p.x;
       landed = true;
+      if (at_end) {
+        p.jump_before = true;
+        trace.points.push_back(std::move(p));
+        ++trace.summary.points;
+        trace.summary.status = ContinuationStatus::kReachedEnd;
+        trace.summary.message.clear();
+      }
     }
+    if (landed && at_end) break;
     if (!landed) {
       trace.summary.message += "; no jump past the stall converged";
       break;

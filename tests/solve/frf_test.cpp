@@ -87,7 +87,7 @@ TEST(Frf, ContinuationPassesTheTurningPointsOfALiftOffOscillator) {
   opt.max_step = 0.02;  // 2048 samples: coarser sampling makes sub-mHz zig-zags at lift-off
   const FrfTrace tr = TraceFrf(sys, Eigen::VectorXd::Zero(1), 10.0, 45.0, opt);
   EXPECT_EQ(tr.summary.status, ContinuationStatus::kReachedEnd) << tr.summary.BriefReport();
-  EXPECT_EQ(tr.summary.turning_points, 2);
+  EXPECT_EQ(tr.summary.turning_points, 2) << tr.summary.BriefReport() << " jumps " << tr.jumps.size();
   HbmEvaluation e;
   int liftoff = 0;
   for (const FrfPoint& p : tr.points) {
@@ -100,7 +100,7 @@ TEST(Frf, ContinuationPassesTheTurningPointsOfALiftOffOscillator) {
 }
 
 // A trace that stalls jumps ahead and traces on. Forced here by a crawl guard no trace can meet
-// (8 points to advance by a third of the range left): every jump is recorded, the point after it
+// (every step counted as a crawl step, 30 in a row a stall): every jump is recorded, the point after it
 // flagged, every point solves the balance and the trace reaches the end. max_jumps = 0 is the
 // plain continuation: no guard, no jump.
 TEST(Frf, AStalledTraceJumpsAheadAndReachesTheEnd) {
@@ -108,8 +108,8 @@ TEST(Frf, AStalledTraceJumpsAheadAndReachesTheEnd) {
   HbmSystem sys(cs.model, HbmOptions{1, 128});
   const Eigen::VectorXd alpha = Eigen::Vector4d::Zero();
   FrfOptions opt;
-  opt.stall_points = 8;
-  opt.stall_progress = 0.3;
+  opt.stall_points = 30;
+  opt.crawl_step = 100.0;  // every step counts as short
   opt.max_jumps = 100;
   const FrfTrace tr = TraceFrf(sys, alpha, 255.0, 275.0, opt);
   EXPECT_EQ(tr.summary.status, ContinuationStatus::kReachedEnd) << tr.summary.BriefReport();
