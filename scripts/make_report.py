@@ -400,7 +400,10 @@ def _stability(s):
     if stable is None:
         return "not computed (" + str(s.get("note", "")) + ")"
     word = "stable" if stable else "**unstable**"
-    return f"{word} (largest Floquet exponent real part {fmt(real, '.4g', ' 1/s')})"
+    # Contacts that stick and slip make the verdict approximate (docs/stability.md): say so.
+    caveat = ("; approximate: contacts stick and slip, time integration decides (verify)"
+              if "approximate" in str(s.get("note", "")) else "")
+    return f"{word} (largest Floquet exponent real part {fmt(real, '.4g', ' 1/s')}{caveat})"
 
 
 def _vector(v):
