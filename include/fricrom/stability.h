@@ -148,5 +148,8 @@ HoldResult HoldsUnderTimeIntegration(const Model& model, const HarmonicBalance& 
 // computed each bound's stability says why.
 void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
                           const HillOptions& options = {});
+// The same with the modal data of `stability` kept between calls (a bound curve's points).
+void AssessBoundStability(SolutionStability* stability, double omega, BoundsResult* b,
+                          const HillOptions& options = {});
 
 }  // namespace fricrom

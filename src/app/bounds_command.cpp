@@ -160,8 +160,11 @@ int DesignCommands::State::RunBounds() {
       [&](const CurveUnitsRun& r) {
         progress.Done();
         curve = AssembleBoundCurve(r.points);
-        // Hill stability of each bound (the full balance; noted as not computed otherwise).
-        for (BoundsResult& p : curve.points) AssessBoundStability(system, RadPerS(p.freq_hz), &p);
+        // Hill stability of each bound (full or condensed balance; the note says why where it
+        // is not computed), the condensed balance's modal data shared by the points.
+        SolutionStability stability(system);
+        for (BoundsResult& p : curve.points)
+          AssessBoundStability(&stability, RadPerS(p.freq_hz), &p);
         wall = curve.wall_s = Seconds(t0);
         WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
         WriteManifest(dir, "bounds", {h5p, csvp});

@@ -231,6 +231,11 @@ HillResult HillStabilityOf(const HarmonicBalance& system, const Eigen::VectorXd&
 void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsResult* b,
                           const HillOptions& options) {
   SolutionStability stability(system);
+  AssessBoundStability(&stability, omega, b, options);
+}
+
+void AssessBoundStability(SolutionStability* stability, double omega, BoundsResult* b,
+                          const HillOptions& options) {
   for (BoundSolution* s : {&b->min, &b->max}) {
     s->stability = {};
     if (!s->IsUsable()) {
@@ -238,7 +243,7 @@ void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsRes
       continue;
     }
     try {
-      const HillResult r = stability.At(s->x, omega, s->alpha, options);
+      const HillResult r = stability->At(s->x, omega, s->alpha, options);
       s->stability.computed = true;
       s->stability.stable = r.stable;
       s->stability.max_floquet_real = r.max_real;
