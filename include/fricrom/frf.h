@@ -42,6 +42,16 @@ struct FrfOptions {
   int stall_points = 100;
   double crawl_step = 0.05;
   int max_jumps = 20;  // 0: the plain continuation (no crawl guard, no jump)
+  // A branch that comes back by more than this fraction of the range below the furthest
+  // frequency it reached is looping over traced ground: TraceFrf jumps ahead as from a stall.
+  double turn_back_limit = 0.2;
+  // TraceFrf's corrector and predictor (ContinuationOptions): the secant predictor and a short
+  // corrector budget. A rejected corrector costs most where contacts switch state: 87 % of the
+  // residual evaluations of the FE cascade's corner trace went to correctors that failed after
+  // 16 damped iterations.
+  bool secant_predictor = true;
+  int max_corrector_iterations = 10;
+  int max_corrector_backtracks = 5;
   bool IsValid(std::string* error) const;
 };
 

@@ -122,6 +122,15 @@ struct ContinuationOptions {
   // x_scale follows |x| upwards (doubling or more): the arclength of a branch whose solution grows
   // by orders of magnitude (an FRF into a resonance) is measured against its current size.
   bool adapt_x_scale = false;
+  // The predictor's direction: the secant through the last two points instead of the tangent
+  // solved at the last point (one linear solve a point saved; on a branch with many kinks the
+  // secant is also the better guess, the tangent of one smooth piece pointing off the next).
+  bool secant_predictor = false;
+  // Corrector budget: iterations (0: 3 × target_iterations + 4) and line-search backtracks per
+  // iteration (−1: corrector.max_backtracks). A corrector that needs more is a step too long:
+  // halving it is cheaper than a long damped Newton at a kink.
+  int max_corrector_iterations = 0;
+  int max_corrector_backtracks = -1;
   NewtonOptions corrector;
   bool IsValid(std::string* error) const;
 };

@@ -42,6 +42,9 @@ bool ContinuationOptions::IsValid(std::string* error) const {
   if (max_points < 1) return bad("max_points must be >= 1");
   if (target_iterations < 1) return bad("target_iterations must be >= 1");
   if (!(turning_tolerance >= 0.0)) return bad("turning_tolerance must be >= 0");
+  if (max_corrector_iterations < 0 || max_corrector_backtracks < -1) {
+    return bad("max_corrector_iterations must be >= 0 and max_corrector_backtracks >= -1");
+  }
   return corrector.IsValid(error);
 }
 
@@ -297,7 +300,12 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
     Eigen::VectorXd z_new = z + ds * tau;
     Corrector corr(s, tau, z_new);
     NewtonOptions copts = options.corrector;
-    copts.max_iterations = std::min(copts.max_iterations, 3 * options.target_iterations + 4);
+    copts.max_iterations = std::min(copts.max_iterations, options.max_corrector_iterations > 0
+                                                              ? options.max_corrector_iterations
+                                                              : 3 * options.target_iterations + 4);
+    if (options.max_corrector_backtracks >= 0) {
+      copts.max_backtracks = options.max_corrector_backtracks;
+    }
     // The last bordered LU preconditions the corrector's GMRES steps (large systems), and the
     // corrector's own LU the tangent solve: consecutive points differ little.
     std::shared_ptr<const dense::Lu> lu_new;
@@ -306,7 +314,17 @@ ContinuationSummary Continue(const ParametricSystem& system, const ContinuationO
     summary.evaluations += cs.evaluations;
     if (lu_new) lu = lu_new;
     Eigen::VectorXd tau_new;
-    if (!cs.IsSolutionUsable() || !Tangent(s, z_new, tau, lu.get(), &tau_new)) {
+    const bool usable = cs.IsSolutionUsable();
+    if (usable && options.secant_predictor) {
+      tau_new = z_new - z;
+      if (!(tau_new.norm() > 0.0) || !tau_new.allFinite()) {
+        if (!Tangent(s, z_new, tau, lu.get(), &tau_new)) tau_new.resize(0);
+      } else {
+        tau_new.normalize();
+      }
+    }
+    if (!usable || (options.secant_predictor ? tau_new.size() == 0
+                                             : !Tangent(s, z_new, tau, lu.get(), &tau_new))) {
       ++summary.rejected_steps;
       ds *= 0.5;
       if (ds < options.min_step) {

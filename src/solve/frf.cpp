@@ -55,8 +55,12 @@ bool FrfOptions::IsValid(std::string* error) const {
     *error = "FrfOptions.max_points and fallback_max_points must be >= 1";
     return false;
   }
-  if (stall_points < 1 || !(crawl_step >= 0.0) || max_jumps < 0) {
-    *error = "FrfOptions: stall_points >= 1, crawl_step >= 0, max_jumps >= 0";
+  if (stall_points < 1 || !(crawl_step >= 0.0) || max_jumps < 0 || !(turn_back_limit > 0.0)) {
+    *error = "FrfOptions: stall_points >= 1, crawl_step >= 0, max_jumps >= 0, turn_back_limit > 0";
+    return false;
+  }
+  if (max_corrector_iterations < 0 || max_corrector_backtracks < -1) {
+    *error = "FrfOptions: max_corrector_iterations >= 0, max_corrector_backtracks >= -1";
     return false;
   }
   if (frequency_fallbacks < 0 || frequency_fallbacks > 7) {
@@ -418,16 +422,21 @@ namespace {
 ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::VectorXd& alpha,
                                  double f0, double f1, const Eigen::VectorXd& x0,
                                  const FrfOptions& options, int max_points, bool crawl_guard,
-                                 const FrfProgress& progress, FrfTrace* trace, bool* crawled) {
+                                 const FrfProgress& progress, FrfTrace* trace, std::string* stall) {
   HbmFrequencyFamily family(system, alpha);
   ContinuationOptions copt = MakeContinuationOptions(system, options, f0, f1, x0);
   copt.max_points = max_points;
   copt.adapt_x_scale = options.adapt_x_scale;
+  copt.secant_predictor = options.secant_predictor;
+  copt.max_corrector_iterations = options.max_corrector_iterations;
+  copt.max_corrector_backtracks = options.max_corrector_backtracks;
   const double dir = f1 > f0 ? 1.0 : -1.0, range = std::abs(f1 - f0);
   const double back = 1e-3 * range;  // how far out of the range a trace may turn back
+  const double turn_back = options.turn_back_limit * range;
+  double furthest = f0;
   double x_size = x0.norm();
   int short_steps = 0;
-  *crawled = false;
+  stall->clear();
   const size_t first = trace->points.size();
   return Continue(family, copt, x0, [&](const ContinuationPoint& cp) {
     FrfPoint p;
@@ -442,8 +451,15 @@ ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::Vec
     trace->points.push_back(std::move(p));
     if (progress) progress(static_cast<int>(trace->points.size()), -1);
     if (!crawl_guard) return true;
+    const auto at = [&cp] { return " at " + std::to_string(Hz(cp.lambda)) + " Hz"; };
     if (dir * (Hz(cp.lambda) - f0) < -back) {
-      *crawled = true;  // turned back out of the range: nothing to trace there
+      *stall = "the branch turned back out of the range" + at();  // nothing to trace there
+      return false;
+    }
+    if (dir * (Hz(cp.lambda) - furthest) > 0.0) furthest = Hz(cp.lambda);
+    if (dir * (furthest - Hz(cp.lambda)) > turn_back) {
+      // A loop back over traced ground: the range ahead is what is left.
+      *stall = "the branch turned back from " + std::to_string(furthest) + " Hz" + at();
       return false;
     }
     const FrfPoint& now = trace->points.back();
@@ -455,7 +471,8 @@ ContinuationSummary TraceSegment(const HarmonicBalance& system, const Eigen::Vec
       const bool is_short = std::sqrt(df * df + dx * dx) < options.crawl_step * options.max_step;
       short_steps = is_short ? short_steps + 1 : 0;
       if (short_steps >= options.stall_points) {
-        *crawled = true;
+        *stall =
+            "crawling: " + std::to_string(options.stall_points) + " short steps in a row" + at();
         return false;
       }
     }
@@ -484,22 +501,17 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
   double f0 = f_start_hz;
   Eigen::VectorXd x0 = system.StickLinearSolution(RadPerS(f_start_hz));
   for (int segment = 0;; ++segment) {
-    bool crawled = false;
+    std::string stall;
     const int left = options.max_points - trace.summary.points;
     const ContinuationSummary s =
         TraceSegment(system, alpha, f0, f_end_hz, x0, options, std::max(left, 1),
-                     options.max_jumps > 0, progress, &trace, &crawled);
+                     options.max_jumps > 0, progress, &trace, &stall);
     Accumulate(s, &trace.summary);
-    if (crawled) {
+    if (!stall.empty()) {
       trace.summary.status = ContinuationStatus::kStepTooSmall;
-      trace.summary.message = dir * (trace.points.back().freq_hz - f0) < 0.0
-                                  ? "the branch turned back out of the range at " +
-                                        std::to_string(trace.points.back().freq_hz) + " Hz"
-                                  : "crawling: " + std::to_string(options.stall_points) +
-                                        " short steps in a row at " +
-                                        std::to_string(trace.points.back().freq_hz) + " Hz";
+      trace.summary.message = stall;
     }
-    const bool stalled = s.status == ContinuationStatus::kStepTooSmall || crawled;
+    const bool stalled = s.status == ContinuationStatus::kStepTooSmall || !stall.empty();
     if (!stalled || segment >= options.max_jumps || trace.points.empty() ||
         trace.summary.points >= options.max_points) {
       break;
@@ -511,17 +523,18 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
     }
     bool landed = false;
     bool at_end = false;
-    for (double step = 0.0025 * range; step <= 0.08 * range && !landed; step *= 2.0) {
+    // Newton alone first (0.25 % of the range, doubled up to 8 %); where a branch drops off a
+    // fold none of those may converge, and the fallbacks' α homotopy and frequency continuations
+    // are tried at 1 % and 4 % before the trace gives up.
+    const auto try_jump = [&](double step, bool fallbacks) {
       // A jump that would pass the end lands on it, and the trace is complete.
       at_end = dir * (from->freq_hz + dir * step - f_end_hz) >= 0.0;
       const double f = at_end ? f_end_hz : from->freq_hz + dir * step;
       FrfOptions quick = options;
-      quick.use_fallbacks = false;
+      quick.use_fallbacks = fallbacks;
+      quick.frequency_fallbacks = std::min(options.frequency_fallbacks, 2);
       FrfPoint p = SolveAtFrequency(system, alpha, f, from->x, quick);
-      if (p.status != SolverStatus::kConverged) {
-        if (at_end) break;
-        continue;
-      }
+      if (p.status != SolverStatus::kConverged) return;
       trace.jumps.emplace_back(from->freq_hz, f);
       f0 = f;
       x0 = p.x;
@@ -533,6 +546,13 @@ FrfTrace TraceFrf(const HarmonicBalance& system, const Eigen::VectorXd& alpha, d
         trace.summary.status = ContinuationStatus::kReachedEnd;
         trace.summary.message.clear();
       }
+    };
+    for (double step = 0.0025 * range; step <= 0.08 * range && !landed; step *= 2.0) {
+      try_jump(step, false);
+      if (at_end) break;
+    }
+    for (double step = 0.01 * range; step <= 0.04 * range && !landed && !at_end; step *= 4.0) {
+      try_jump(step, true);
     }
     if (landed && at_end) break;
     if (!landed) {

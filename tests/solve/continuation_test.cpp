@@ -33,11 +33,11 @@ TEST(Continuation, PassesTwoTurningPointsOfAnSCurve) {
   o.x_scale = 3.0;
   o.max_step = 0.05;
   std::vector<ContinuationPoint> pts;
-  const ContinuationSummary s = Continue(SCurve{}, o, Eigen::VectorXd::Constant(1, -3.1),
-                                         [&](const ContinuationPoint& p) {
-                                           pts.push_back(p);
-                                           return true;
-                                         });
+  const ContinuationSummary s =
+      Continue(SCurve{}, o, Eigen::VectorXd::Constant(1, -3.1), [&](const ContinuationPoint& p) {
+        pts.push_back(p);
+        return true;
+      });
   EXPECT_EQ(s.status, ContinuationStatus::kReachedEnd) << s.BriefReport();
   EXPECT_EQ(s.turning_points, 2);
   ASSERT_GT(pts.size(), 10u);
@@ -55,6 +55,37 @@ TEST(Continuation, PassesTwoTurningPointsOfAnSCurve) {
   EXPECT_TRUE(middle);
 }
 
+// The secant predictor with a short corrector budget (TraceFrf's) follows the same S-curve: both
+// folds, every point on the curve, the middle branch, the end exactly.
+TEST(Continuation, TheSecantPredictorWithAShortCorrectorPassesBothFolds) {
+  ContinuationOptions o;
+  o.lambda_start = -18.0;
+  o.lambda_end = 18.0;
+  o.lambda_scale = 36.0;
+  o.x_scale = 3.0;
+  o.max_step = 0.05;
+  o.secant_predictor = true;
+  o.max_corrector_iterations = 6;
+  o.max_corrector_backtracks = 2;
+  std::vector<ContinuationPoint> pts;
+  const ContinuationSummary s =
+      Continue(SCurve{}, o, Eigen::VectorXd::Constant(1, -3.1), [&](const ContinuationPoint& p) {
+        pts.push_back(p);
+        return true;
+      });
+  EXPECT_EQ(s.status, ContinuationStatus::kReachedEnd) << s.BriefReport();
+  EXPECT_EQ(s.turning_points, 2);
+  bool middle = false;
+  for (const ContinuationPoint& p : pts) {
+    EXPECT_NEAR(p.x[0] * p.x[0] * p.x[0] - 3 * p.x[0], p.lambda, 1e-8);
+    middle |= std::abs(p.x[0]) < 0.2;
+  }
+  EXPECT_TRUE(middle);
+  EXPECT_NEAR(pts.back().x[0], 3.0, 1e-8);
+  o.max_corrector_backtracks = -2;
+  EXPECT_THROW(Continue(SCurve{}, o, Eigen::VectorXd::Zero(1), {}), std::invalid_argument);
+}
+
 TEST(Continuation, CallbackCanStop) {
   ContinuationOptions o;
   o.lambda_start = -18.0;
@@ -62,10 +93,8 @@ TEST(Continuation, CallbackCanStop) {
   o.lambda_scale = 36.0;
   o.x_scale = 3.0;
   int n = 0;
-  const ContinuationSummary s =
-      Continue(SCurve{}, o, Eigen::VectorXd::Constant(1, -3.0), [&](const ContinuationPoint&) {
-        return ++n < 5;
-      });
+  const ContinuationSummary s = Continue(SCurve{}, o, Eigen::VectorXd::Constant(1, -3.0),
+                                         [&](const ContinuationPoint&) { return ++n < 5; });
   EXPECT_EQ(s.status, ContinuationStatus::kStopped);
   EXPECT_EQ(n, 5);
 }
