@@ -53,6 +53,13 @@ def read_bounds(path):
                            [f, ymin, ymax, smin, smax])
         if len(f) == 0:
             raise InputError(f"{path}: '/bounds/freq_hz' is empty")
+        # bounds --stable-only: the bounds over stable candidates (NaN: none stable).
+        stable = None
+        if "stable_y_min_m" in g and "stable_y_max_m" in g:
+            stable = (common.dataset(h5, "bounds/stable_y_min_m"),
+                      common.dataset(h5, "bounds/stable_y_max_m"))
+            common.same_length(h5, "bounds", ["freq_hz", "stable_y_min_m", "stable_y_max_m"],
+                               [f, stable[0], stable[1]])
         lf = common.dataset(h5, "linear/freq_hz")
         free = common.dataset(h5, "linear/free_amplitude_m")
         stick = common.dataset(h5, "linear/stick_amplitude_m")
@@ -68,6 +75,7 @@ def read_bounds(path):
             "peak_freq": common.attr_float(g, "peak_freq_hz"),
             "robustness": common.attr_float(g, "robustness_at_peak"),
             "linear": {"freq": lf, "free": free, "stick": stick},
+            "stable": stable,
         }
 
 
@@ -118,6 +126,21 @@ def make_figure(res, normalise):
                 zorder=3, label="maximum response")
         ax.plot(f, show_min, color=COLOUR_MIN, linewidth=1.8, marker=marker, markersize=4,
                 zorder=3, label="minimum response")
+
+    if res.get("stable") is not None:
+        # Drawn where they differ from the bounds; a curve of identical bounds says so in its label.
+        smin = res["stable"][0][order] / scale
+        smax = res["stable"][1][order] / scale
+        differs = ~np.isclose(smin, ymin, rtol=1e-9, equal_nan=True) | \
+            ~np.isclose(smax, ymax, rtol=1e-9, equal_nan=True)
+        note = "" if np.any(differs) else " (= the bounds)"
+        style = dict(linestyle="none", marker="o", markersize=6, fillstyle="none") if len(f) == 1 \
+            else dict(linestyle="--", linewidth=1.4)
+        ax.plot(f, smax, color=COLOUR_MAX, zorder=4, label="max over stable solutions" + note,
+                **style)
+        ax.plot(f, smin, color=COLOUR_MIN, zorder=4, label="min over stable solutions" + note,
+                **style)
+        reliable += [smin, smax]
 
     finite = np.concatenate([r[np.isfinite(r)] for r in reliable] + [np.zeros(1)])
     top = float(np.max(finite)) * 1.12 if np.max(finite) > 0.0 else 1.0

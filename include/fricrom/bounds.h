@@ -251,6 +251,23 @@ struct LevelBound {
   double robustness() const;
 };
 
+// Bounds over the stable solutions among candidates (stability.h, BoundsOverStableSolutions):
+// the bounds' own solutions and fixed-α solves at samples of the α box, each judged by Hill. Not
+// an optimisation over the stable set: where a bound's own solution is stable it is also the
+// stable bound (exact); otherwise the most extreme stable candidate, an inner estimate of the
+// stable range. candidates = 0: not computed.
+struct StableBounds {
+  BoundSolution min, max;  // NaN amplitude where no candidate is stable
+  bool exact_min = false, exact_max = false;
+  int candidates = 0;     // converged candidates judged by Hill
+  int stable = 0;         // of which stable
+  int approximate = 0;    // of which judged with contacts switching between stick and slip
+  int failed = 0;         // samples whose solve did not converge, or Hill not computed
+  int beyond_bounds = 0;  // samples (stable or not) outside [min, max]: the search missed them
+  // 1 − (y_max − y_min) / y_max over the stable bounds; NaN unless both exist.
+  double robustness() const;
+};
+
 struct BoundsResult {
   double freq_hz = 0.0;
   // The α levels of a coarse-to-fine search, coarsest first, the last this result's own bounds;
@@ -281,6 +298,7 @@ struct BoundsResult {
   int harmonics = 0;  // the H of the bounds' solutions: the system's
 
   double wall_s = 0.0;  // wall time of ComputeBounds [s]
+  StableBounds stable;  // on request (bounds --stable-only)
   // Paper Eq. 10: 1 − (y_max − y_min) / y_max; NaN unless both bounds converged.
   double robustness() const;
   bool IsUsable() const { return min.IsUsable() && max.IsUsable(); }

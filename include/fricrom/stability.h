@@ -152,4 +152,13 @@ void AssessBoundStability(const HarmonicBalance& system, double omega, BoundsRes
 void AssessBoundStability(SolutionStability* stability, double omega, BoundsResult* b,
                           const HillOptions& options = {});
 
+// The bounds over the stable solutions among `b`'s own solutions and fixed-α solves at `samples`
+// points of the α box (its two uniform corners, then uniform random α, a fixed stream), each
+// started from b's solutions by Newton and judged by Hill (StableBounds says what it is and is
+// not). A candidate counts as stable only where Hill computed it and found it stable, also where
+// the verdict is approximate (counted). Throws std::invalid_argument for samples < 0.
+StableBounds BoundsOverStableSolutions(SolutionStability* stability, const HarmonicBalance& system,
+                                       const BoundsResult& b, int samples,
+                                       const HillOptions& options = {});
+
 }  // namespace fricrom

@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/design_state.h"
 #include "app/mpi_units.h"
@@ -97,6 +98,27 @@ void PrintBoundsText(const Case& c, const BoundCurve& curve, const CurveUnitsRun
                                         : "not computed")
               << " (" << s->stability.note << ")\n";
   }
+  if (at.stable.candidates > 0) {
+    const StableBounds& s = at.stable;
+    const auto bound = [](double y, bool exact) {
+      std::ostringstream o;
+      o << std::scientific << std::setprecision(4) << y << (exact ? " (the bound)" : " (a sample)");
+      return o.str();
+    };
+    std::cout << "  stable bounds (" << s.stable << " of " << s.candidates
+              << " candidates Hill-stable, " << s.approximate << " approximate verdicts): ";
+    if (s.stable > 0) {
+      std::cout << "min " << bound(s.min.amplitude, s.exact_min) << ", max "
+                << bound(s.max.amplitude, s.exact_max) << ", R " << std::fixed
+                << std::setprecision(4) << s.robustness() << "\n";
+    } else {
+      std::cout << "none stable\n";
+    }
+    if (s.beyond_bounds > 0) {
+      std::cout << "  WARNING: " << s.beyond_bounds
+                << " alpha samples lie outside the bounds: the search missed them\n";
+    }
+  }
   if (run.stages.size() > 1) {  // one stage (a frequency off the harmonic ladder) says nothing new
     std::cout << "  stages:";
     const char* sep = " ";
@@ -163,8 +185,12 @@ int DesignCommands::State::RunBounds() {
         // Hill stability of each bound (full or condensed balance; the note says why where it
         // is not computed), the condensed balance's modal data shared by the points.
         SolutionStability stability(system);
-        for (BoundsResult& p : curve.points)
+        for (BoundsResult& p : curve.points) {
           AssessBoundStability(&stability, RadPerS(p.freq_hz), &p);
+          if (stable_only) {
+            p.stable = BoundsOverStableSolutions(&stability, system, p, stable_samples);
+          }
+        }
         wall = curve.wall_s = Seconds(t0);
         WriteBoundCurveFiles(c, system, curve, {h5p, csvp});
         WriteManifest(dir, "bounds", {h5p, csvp});

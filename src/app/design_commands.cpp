@@ -159,6 +159,16 @@ void DesignCommands::State::RegisterBounds(CLI::App& app) {
                    "point from the bounds the sweep reached at the point before it) or "
                    "neighbours (each point from its neighbours' pass-1 optima)")
       ->check(CLI::IsMember({"sweeps", "neighbours"}));
+  bounds->add_flag(
+      "--stable-only", stable_only,
+      "Also report the bounds over the stable (Hill) solutions among the bounds' own "
+      "and fixed-alpha solves at --stable-samples points of the alpha box: exact where "
+      "a bound's own solution is stable, else an inner estimate (docs/stability.md)");
+  bounds
+      ->add_option("--stable-samples", stable_samples,
+                   "With --stable-only: alpha samples solved and judged beside the bounds' "
+                   "solutions (default 32)")
+      ->check(CLI::Range(0, 100000));
   bounds->add_flag("--plot", plot, "Draw the bound curve and the contact time histories");
   bounds
       ->add_option("--threads", threads,

@@ -64,6 +64,8 @@ struct DesignCommands::State {
   std::string param, noa_objective = "eta-gap";
   bool no_sweep = false, resume = false;
   int threads = 0;
+  bool stable_only = false;  // bounds --stable-only: also the bounds over stable candidates
+  int stable_samples = 32;   // bounds --stable-samples: α samples beside the bounds' solutions
   TimeIntegrationOptions time_options;  // verify: the time integrations (freq_hz set per run)
 
   BoundsOptions MakeBoundsOptions(const Case& c) const {

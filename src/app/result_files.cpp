@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include "app/cli_common.h"
@@ -79,6 +80,26 @@ json BoundsJson(const Model& model, const BoundsResult& b) {
               {"max_floquet_real_per_s", NumberOrNull(s->stability.max_floquet_real)},
               {"note", s->stability.note}};
   }
+  // The bounds over stable solutions (bounds --stable-only; null where not computed or where no
+  // candidate is stable).
+  if (b.stable.candidates > 0) {
+    const StableBounds& st = b.stable;
+    for (const auto& [key, s, exact] : {std::tuple{"stable_min", &st.min, st.exact_min},
+                                        std::tuple{"stable_max", &st.max, st.exact_max}}) {
+      j[key] = std::isfinite(s->amplitude)
+                   ? json{{"amplitude_m", s->amplitude},
+                          {"exact", exact},
+                          {"max_floquet_real_per_s", NumberOrNull(s->stability.max_floquet_real)},
+                          {"alpha", ToStd(s->alpha)}}
+                   : json(nullptr);
+    }
+    j["R_stable"] = NumberOrNull(st.robustness());
+    j["stable_candidates"] = {{"judged", st.candidates},
+                              {"stable", st.stable},
+                              {"approximate", st.approximate},
+                              {"failed", st.failed},
+                              {"beyond_bounds", st.beyond_bounds}};
+  }
   j["spread_min"] = b.spread_min;
   j["spread_max"] = b.spread_max;
   j["seeds_tried"] = b.seeds_tried;
@@ -131,6 +152,34 @@ bool HasContactMap(const Case& c) {
          c.contact_interface.size() == c.model.contacts.size();
 }
 
+namespace {
+
+// Hill stability of each bound and, with bounds --stable-only, the bounds over stable
+// candidates (NaN where not computed or none stable) with their largest Floquet exponents.
+void WriteStableBounds(Hdf5Writer& h5, const BoundCurve& curve) {
+  std::vector<double> hmin, hmax, smin, smax, fmin, fmax;
+  bool any = false;
+  for (const BoundsResult& b : curve.points) {
+    hmin.push_back(b.min.stability.max_floquet_real);
+    hmax.push_back(b.max.stability.max_floquet_real);
+    const bool on = b.stable.candidates > 0;
+    any = any || on;
+    smin.push_back(on ? b.stable.min.amplitude : NAN);
+    smax.push_back(on ? b.stable.max.amplitude : NAN);
+    fmin.push_back(on ? b.stable.min.stability.max_floquet_real : NAN);
+    fmax.push_back(on ? b.stable.max.stability.max_floquet_real : NAN);
+  }
+  h5.Vector("bounds/max_floquet_real_min_per_s", hmin);
+  h5.Vector("bounds/max_floquet_real_max_per_s", hmax);
+  if (!any) return;
+  h5.Vector("bounds/stable_y_min_m", smin);
+  h5.Vector("bounds/stable_y_max_m", smax);
+  h5.Vector("bounds/stable_max_floquet_real_min_per_s", fmin);
+  h5.Vector("bounds/stable_max_floquet_real_max_per_s", fmax);
+}
+
+}  // namespace
+
 void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const BoundCurve& curve,
                           const ResultFiles& files) {
   const BoundsResult& at = curve.points[curve.HasPeak() ? curve.peak : 0];
@@ -176,6 +225,7 @@ void WriteBoundCurveFiles(const Case& c, const HarmonicBalance& system, const Bo
     h5.Matrix("bounds/alpha_at_max", amax);
     h5.Strings("bounds/regimes_min", rmin);
     h5.Strings("bounds/regimes_max", rmax);
+    WriteStableBounds(h5, curve);
     h5.Attribute("bounds", "peak_freq_hz",
                  curve.HasPeak() ? curve.points[curve.peak].freq_hz : NAN);
     h5.Attribute("bounds", "robustness_at_peak",

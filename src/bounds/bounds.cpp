@@ -267,6 +267,13 @@ double BoundsResult::robustness() const {
   return 1.0 - (max.amplitude - min.amplitude) / max.amplitude;
 }
 
+double StableBounds::robustness() const {
+  if (!(min.amplitude >= 0.0) || !(max.amplitude > 0.0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return 1.0 - (max.amplitude - min.amplitude) / max.amplitude;
+}
+
 std::string BoundsResult::BriefReport() const {
   std::ostringstream os;
   auto one = [&os](const char* name, const BoundSolution& s) {

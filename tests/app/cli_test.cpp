@@ -408,6 +408,30 @@ TEST(Cli, BoundsJsonCarriesTheStabilityOfBothBounds) {
   }
 }
 
+// bounds --stable-only: the lumped bounds at 266 Hz are stable, so they are their own stable
+// bounds (exact), and no α sample (stable or not) lies outside them.
+TEST(Cli, StableOnlyBoundsAreTheBoundsWhereTheBoundSolutionsAreStable) {
+  TempDir tmp;
+  const std::string out = " --out " + Quote(tmp.path().string());
+  const CliRun plain = Stdout("bounds " + Quote(kBaseline) + " --freq 266 --json" + out);
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_FALSE(json::parse(plain.output).contains("stable_min"));
+  const CliRun r = Stdout("bounds " + Quote(kBaseline) +
+                          " --freq 266 --stable-only --stable-samples 12 --json" + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json j = json::parse(r.output);
+  EXPECT_EQ(j.at("stable_candidates").at("judged").get<int>() +
+                j.at("stable_candidates").at("failed").get<int>(),
+            2 + 12);
+  EXPECT_EQ(j.at("stable_candidates").at("beyond_bounds"), 0) << j.dump();
+  EXPECT_EQ(j.at("stable_min").at("exact"), true);
+  EXPECT_EQ(j.at("stable_max").at("exact"), true);
+  EXPECT_DOUBLE_EQ(j.at("stable_min").at("amplitude_m").get<double>(), j.at("y_min").get<double>());
+  EXPECT_DOUBLE_EQ(j.at("stable_max").at("amplitude_m").get<double>(), j.at("y_max").get<double>());
+  EXPECT_NEAR(j.at("R_stable").get<double>(), j.at("R").get<double>(), 1e-15);
+  EXPECT_LT(j.at("stable_max").at("max_floquet_real_per_s").get<double>(), 0.0);
+}
+
 // frf --stability --time-check: Hill and the time integration from each solution judge every
 // point (the lumped benchmark's are stable, and the runs stay on them); the HDF5 file keeps the
 // verdicts.
