@@ -135,12 +135,18 @@ def make_figure(res, normalise):
             ~np.isclose(smax, ymax, rtol=1e-9, equal_nan=True)
         note = "" if np.any(differs) else " (= the bounds)"
         style = dict(linestyle="none", marker="o", markersize=6, fillstyle="none") if len(f) == 1 \
-            else dict(linestyle="--", linewidth=1.4)
+            else dict(linestyle="--", linewidth=1.4, marker="o" if len(f) < 60 else None,
+                      markersize=5, fillstyle="none")
         ax.plot(f, smax, color=COLOUR_MAX, zorder=4, label="max over stable solutions" + note,
                 **style)
         ax.plot(f, smin, color=COLOUR_MIN, zorder=4, label="min over stable solutions" + note,
                 **style)
         reliable += [smin, smax]
+        none = ~np.isfinite(smin) & ~np.isfinite(smax) & (ok_min | ok_max)
+        if np.any(none):
+            ax.plot(f[none], np.zeros(np.count_nonzero(none)), linestyle="none", marker="^",
+                    color="0.35", markersize=7, clip_on=False, zorder=5,
+                    label=f"no stable candidate ({np.count_nonzero(none)} frequencies)")
 
     finite = np.concatenate([r[np.isfinite(r)] for r in reliable] + [np.zeros(1)])
     top = float(np.max(finite)) * 1.12 if np.max(finite) > 0.0 else 1.0

@@ -430,6 +430,13 @@ TEST(Cli, StableOnlyBoundsAreTheBoundsWhereTheBoundSolutionsAreStable) {
   EXPECT_DOUBLE_EQ(j.at("stable_max").at("amplitude_m").get<double>(), j.at("y_max").get<double>());
   EXPECT_NEAR(j.at("R_stable").get<double>(), j.at("R").get<double>(), 1e-15);
   EXPECT_LT(j.at("stable_max").at("max_floquet_real_per_s").get<double>(), 0.0);
+  // A curve: the figure draws the stable bounds beside the bounds (scripts/plot_bounds.py).
+  const CliRun curve = Stdout("bounds " + Quote(kBaseline) +
+                              " --range 262 270 --points 3 --stable-only --stable-samples 4 "
+                              "--plot --quiet" +
+                              out);
+  ASSERT_EQ(curve.exit_code, 0) << curve.output;
+  EXPECT_TRUE(fs::exists(tmp.path() / "bounds.png"));
 }
 
 // frf --stability --time-check: Hill and the time integration from each solution judge every
