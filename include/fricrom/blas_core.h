@@ -4,7 +4,7 @@
 // newer than it knows gets its fallback, "Prescott": SSE3 kernels on a machine with AVX2, FMA
 // and AVX-512. On the 2-core Intel Xeon VM (family 6, model 207) that fallback made the coarse
 // FE cascade's bound at 1103 Hz take 36.1 s instead of 27.6 s with the Haswell kernels, the same
-// bounds to 2e-6 relative (benchmarks/README.md, twenty-fifth session). OpenBLAS reads the
+// bounds to 2e-6 relative (benchmarks/README.md). OpenBLAS reads the
 // choice from OPENBLAS_CORETYPE when it loads, so the CLI and the benchmarks start themselves
 // again with it set where RecommendedBlasCore() says so.
 #pragma once

@@ -63,10 +63,9 @@ struct BoundsOptions {
   // its objective is below the largest of the last `line_search_memory` iterates' (minus the
   // Armijo term), so the Barzilai-Borwein steps are cut less often and a run can cross a kink of
   // the response a monotone search stops at. Each run still ends on its best iterate (from
-  // which it goes on monotonically if a stopping test held elsewhere). 1: monotone Armijo, the
-  // only search before 2026-11-27 (seventh session); 10 on the coarse FE cascade's default
-  // 50-point curve: y_max higher at 22 points (up to 9.8 %), lower at 5 (up to 5.8 %), in the
-  // same time (docs/bounds-and-design.md). The harmonic ladder's refinement at H runs
+  // which it goes on monotonically if a stopping test held elsewhere). 1: monotone Armijo; 10
+  // on the coarse FE cascade's default 50-point curve: y_max higher at 22 points (up to 9.8 %),
+  // lower at 5 (up to 5.8 %), in the same time (docs/bounds-and-design.md). The harmonic ladder's refinement at H runs
   // monotonically from its H = 1 optimum (nonmonotone there: the same bounds, twice the time).
   int line_search_memory = 10;
   // A reduced-space run is stopped (BoundStatus::kAbandoned, BoundsResult::runs_abandoned) once,
@@ -114,7 +113,7 @@ struct BoundsOptions {
   // Gauss-Newton steps cross them to y ≈ 0 in a few iterations (FE cascade's default curve:
   // R 0.034-0.070 → < 0.001 at five frequencies, docs/bounds-and-design.md). After a failed
   // step the next waits 2, 4, ... 64 iterations, so that runs towards a minimum y ≠ 0 lose
-  // little. False: projected gradient only (every run before 2026-11-28, fourteenth session).
+  // little. False: projected gradient only.
   bool gauss_newton_minimum = true;
   // > 0: maximum runs (reduced space) step along a limited-memory BFGS direction on the free α
   // (those the gradient does not hold at a bound; the two-loop recursion of Nocedal 1980 over

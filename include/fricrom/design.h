@@ -57,7 +57,7 @@ struct BoundCurveOptions {
   // On the FE cascade's 50-point curve kNeighbours left y_max 5.5 % below the best bound any of
   // several searches found (mean over the points; by more than 1 % at 38 of them; the pass
   // repeated nine times still 1.8 %) and R 0.06 above it; the sweeps ~1 % and 0.004 in about
-  // the same time (benchmarks/README.md, thirty-first session).
+  // the same time (benchmarks/README.md).
   enum NeighbourPass { kSweeps, kNeighbours };
   NeighbourPass neighbour_pass = kSweeps;
   // Pass 1 in full (every seed, the sample check) at every anchor_every-th frequency and the
