@@ -499,7 +499,12 @@ int DesignCommands::State::RunNoa() {
     std::cout << res.BriefReport() << "\n  reference frequency " << no.inner.reference_freq_hz
               << " Hz\n";
     if (!sweep_json.is_null()) {
-      std::cout << "  manual sweep of the same range: " << sweep_json.dump() << "\n";
+      const json& r = sweep_json["R_best"];
+      std::cout << "  manual sweep of the same range (" << sweep_steps << " values, "
+                << sweep_json["inner_solves"] << " inner solves, "
+                << sweep_json["wall_s"].get<double>() << " s): best " << param << " = "
+                << sweep_json["p_best"].get<double>()
+                << ", R = " << (r.is_null() ? NAN : r.get<double>()) << "\n";
     }
     std::cout << "  wrote " << (dir / "noa.json").string() << "\n";
   }

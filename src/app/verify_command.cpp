@@ -228,8 +228,24 @@ void PrintCertification(const json& j, const std::filesystem::path& file) {
               << " solved, " << k.at("outside") << " outside, range [" << num(k.at("sampled_min"))
               << ", " << num(k.at("sampled_max")) << "]\n";
   }
+  // One line a run: where it started, where it settled, whether inside the bounds (the JSON has
+  // every field).
   for (const json& r : j.at("time_integration")) {
-    std::cout << "  time integration: " << r.dump() << "\n";
+    const json& a = r.at("initial_alpha");
+    std::ostringstream from;
+    if (a.size() <= 8) {
+      from << "alpha0 [";
+      for (size_t i = 0; i < a.size(); ++i) from << (i ? ", " : "") << num(a[i]);
+      from << "]";
+    } else {
+      from << "alpha0 of " << a.size() << " values";
+    }
+    std::cout << "  time integration from " << from.str() << ": amplitude "
+              << num(r.at("amplitude")) << " m, "
+              << (!r.at("inside").is_boolean() ? "not judged"
+                  : r.at("inside").get<bool>() ? "inside"
+                                               : "OUTSIDE")
+              << " (" << r.at("message").get<std::string>() << ")\n";
   }
   if (j.contains("bound_stability")) {
     for (const char* name : {"min", "max"}) {
