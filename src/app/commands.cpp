@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -39,7 +40,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 // ---------------------------------------------------------------- modes
-int RunModes(const CaseArgs& args, bool as_json) {
+int RunModes(const CaseArgs& args, bool as_json, int count) {
   const Case c = args.Load();
   const ModalResult free = FreeSystemModes(c.model);
   const ModalResult stick = StickSystemModes(c.model);
@@ -60,7 +61,9 @@ int RunModes(const CaseArgs& args, bool as_json) {
   }
   std::cout << "Natural frequencies of " << c.name << " [Hz]\n";
   std::cout << "  mode       free   full-stick\n";
-  for (int i = 0; i < stick.frequencies_hz.size(); ++i) {
+  const int total = static_cast<int>(stick.frequencies_hz.size());
+  const int shown = count > 0 ? std::min(count, total) : total;
+  for (int i = 0; i < shown; ++i) {
     std::cout << "  " << std::setw(4) << i + 1 << "  ";
     if (i < free.frequencies_hz.size()) {
       std::cout << std::setw(9) << std::fixed << std::setprecision(2) << free.frequencies_hz[i];
@@ -69,6 +72,10 @@ int RunModes(const CaseArgs& args, bool as_json) {
     }
     std::cout << "  " << std::setw(11) << std::fixed << std::setprecision(2)
               << stick.frequencies_hz[i] << "\n";
+  }
+  if (shown < total) {
+    std::cout << "  ... " << total - shown
+              << " more full-stick modes (--count 0 lists every one; --json has them all)\n";
   }
   if (free.massless + stick.massless > 0) {
     std::cout << "  directions without mass (a semi-definite mass; no finite frequency): "
@@ -159,6 +166,7 @@ namespace {
 struct BasicCommands {
   CaseArgs modes_args, frf_args, case_args, export_args, lump_args;
   bool modes_json = false, lump_json = false;
+  int modes_count = 20;
   FrfArgs fa;
   std::string export_dir, lump_to;
   CLI::App *modes = nullptr, *frf = nullptr, *casecmd = nullptr, *exportcmd = nullptr,
@@ -168,6 +176,10 @@ struct BasicCommands {
     modes = app.add_subcommand("modes", "Natural frequencies of the free and full-stick systems");
     modes_args.Register(modes);
     modes->add_flag("--json", modes_json, "Print one JSON object on stdout");
+    modes
+        ->add_option("--count", modes_count,
+                     "Modes listed in the text output (default 20; 0: every mode; --json has all)")
+        ->check(CLI::NonNegativeNumber);
 
     frf = RegisterFrf(app, &frf_args, &fa);
 
@@ -188,7 +200,7 @@ struct BasicCommands {
 
   // The exit code of the command given, or −1 if it is none of these.
   int Run() {
-    if (*modes) return RunModes(modes_args, modes_json);
+    if (*modes) return RunModes(modes_args, modes_json, modes_count);
     if (*frf) return RunFrf(frf_args, fa);
     if (*casecmd) return RunCase(case_args);
     if (*exportcmd) {

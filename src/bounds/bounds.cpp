@@ -34,8 +34,10 @@ constexpr int kListed = 12;
 std::string FormatVector(const Eigen::VectorXd& v) {
   std::ostringstream os;
   if (v.size() > kListed) {
-    os << v.size() << " values in [" << v.minCoeff() << ", " << v.maxCoeff() << "], mean "
-       << v.mean();
+    // α lies in [−1, 1]: below 1e-12 a summary value is round-off of a zero (2.8e-33 said "0").
+    const auto shown = [](double a) { return std::abs(a) < 1e-12 ? 0.0 : a; };
+    os << v.size() << " values in [" << shown(v.minCoeff()) << ", " << shown(v.maxCoeff())
+       << "], mean " << shown(v.mean());
     return os.str();
   }
   os << "[";
