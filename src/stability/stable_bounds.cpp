@@ -58,7 +58,8 @@ StableBounds BoundsOverStableSolutions(SolutionStability* stability, const Harmo
       ++out.failed;
     }
   };
-  // The bounds' own solutions first: where one is stable, no candidate goes beyond it.
+  // The bounds' own solutions first: one that is stable is the stable bound, unless a sample lies
+  // beyond the bounds (the search missed it; counted in beyond_bounds).
   if (b.min.IsUsable()) consider(b.min, true, false);
   if (b.max.IsUsable()) consider(b.max, false, true);
   const BoundSolution& from = b.max.IsUsable() ? b.max : b.min;
