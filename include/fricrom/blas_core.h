@@ -2,11 +2,10 @@
 //
 // Debian 12's OpenBLAS (0.3.21) picks its kernels at load time from the CPU model, and a CPU
 // newer than it knows gets its fallback, "Prescott": SSE3 kernels on a machine with AVX2, FMA
-// and AVX-512. On the 2-core Intel Xeon VM (family 6, model 207) that fallback made the coarse
-// FE cascade's bound at 1103 Hz take 36.1 s instead of 27.6 s with the Haswell kernels, the same
-// bounds to 2e-6 relative (benchmarks/README.md). OpenBLAS reads the
-// choice from OPENBLAS_CORETYPE when it loads, so the CLI and the benchmarks start themselves
-// again with it set where RecommendedBlasCore() says so.
+// and AVX-512, a third slower on fricrom's dense kernels
+// (docs/decisions/0006-openblas-core-restart.md). OpenBLAS reads the choice from OPENBLAS_CORETYPE
+// when it loads, so the CLI and the benchmarks start themselves again with it set where
+// RecommendedBlasCore() says so.
 #pragma once
 
 #include <string>

@@ -2,10 +2,10 @@
 //
 // OpenBLAS threads every large call by default. The harmonic-balance engine alternates short BLAS
 // calls (LU of a ~10³ condensed Jacobian) with its own single-threaded work, and there the spin
-// of idle OpenBLAS threads costs more than the threads gain: on the 2-core CI machine the FE
-// cascade bounds at one frequency take 24.6 s with one BLAS thread and 33.0 s with two
-// (benchmarks/README.md). The CLI therefore runs its harmonic-balance commands with one thread
-// unless OPENBLAS_NUM_THREADS is set; MPI ranks want one per rank for the same reason.
+// of idle OpenBLAS threads costs more than the threads gain
+// (docs/decisions/0007-one-blas-thread.md). The CLI therefore runs its harmonic-balance commands
+// with one thread unless OPENBLAS_NUM_THREADS is set; MPI ranks want one per rank for the same
+// reason.
 #pragma once
 
 namespace fricrom {

@@ -28,9 +28,8 @@ struct LevelSearchOptions {
   // Starts of the coarsest level: 2^k corners of its box (k ≤ log2(max_corners) parameters, the
   // k whose ±1 change the response most when more), each solved once at fixed α; the
   // corner_starts largest and smallest responses start maximum and minimum runs.
-  // 256: every corner of the cascade's 8-parameter interface level (with 16, the corners over the
-  // 4 most influential parameters, y_max at 1098 Hz was 5.1 % lower; the corners' solves cost
-  // about 7 s there at H = 1, against the ladder's ~40 s refinement at H = 3).
+  // 256: every corner of an 8-parameter interface level (two interfaces, two directions each),
+  // cheap at H = 1 against the refinement at H (docs/decisions/0001-alpha-levels.md).
   int max_corners = 256;
   int corner_starts = 2;
   bool IsValid(std::string* error) const;

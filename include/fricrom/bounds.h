@@ -63,28 +63,23 @@ struct BoundsOptions {
   // its objective is below the largest of the last `line_search_memory` iterates' (minus the
   // Armijo term), so the Barzilai-Borwein steps are cut less often and a run can cross a kink of
   // the response a monotone search stops at. Each run still ends on its best iterate (from
-  // which it goes on monotonically if a stopping test held elsewhere). 1: monotone Armijo; 10
-  // on the coarse FE cascade's default 50-point curve: y_max higher at 22 points (up to 9.8 %),
-  // lower at 5 (up to 5.8 %), in the same time (docs/bounds-and-design.md). The harmonic ladder's refinement at H runs
-  // monotonically from its H = 1 optimum (nonmonotone there: the same bounds, twice the time).
+  // which it goes on monotonically if a stopping test held elsewhere). 1: monotone Armijo. The
+  // harmonic ladder's refinement at H runs monotonically from its H = 1 optimum, which it only
+  // carries to its neighbour at H (docs/decisions/0015-bound-runs-steps-and-stops.md).
   int line_search_memory = 10;
   // A reduced-space run is stopped (BoundStatus::kAbandoned, BoundsResult::runs_abandoned) once,
   // after at least 10 iterations, it would need more than 10x its best progress per iteration
   // over the last 10 to reach, within its remaining iterations, the bound that a seed's start
   // already gives as a KKT point. Such runs crawl along kinks of the response for hundreds of
-  // iterations towards a local optimum that cannot be the bound (on the FE cascade: 100-200
-  // iterations, 80 % of a bound's time). ImproveBounds (the curve's neighbour starts) also
-  // compares with the bounds it was given: its runs from known solutions that cannot reach them
-  // are stopped likewise.
+  // iterations towards a local optimum that cannot be the bound. ImproveBounds (the curve's
+  // neighbour starts) also compares with the bounds it was given: its runs from known solutions
+  // that cannot reach them are stopped likewise.
   bool stop_dominated_runs = true;
   // With stop_dominated_runs: each run is also measured against the best bound the runs before
   // it at this point reached (in seed order, per direction; CLI --dominance runs), not only
-  // against the KKT starts (--dominance starts, the only rule before 2026-12-01), so a seed's run
-  // that crawls towards a lower local optimum than an earlier seed's is stopped too. The result
-  // then depends on the (fixed) order of the seeds. On the coarse FE cascade: one bound at
-  // 1103.06 Hz 25.1 -> 15.9 s with the same bounds; the same bounds at six other frequencies and
-  // on the whole default 50-point curve (bit for bit; no time gained there, the neighbour starts'
-  // held bounds already stop such runs) (docs/bounds-and-design.md).
+  // against the KKT starts (--dominance starts), so a seed's run that crawls towards a lower
+  // local optimum than an earlier seed's is stopped too. The result then depends on the (fixed)
+  // order of the seeds.
   bool dominated_by_earlier_runs = true;
   double tolerance = 1e-9;  // optimality tolerance of the scaled problem
   // A reduced-space run is stationary once its objective (scaled by its start's) changes by at
@@ -92,17 +87,13 @@ struct BoundsOptions {
   double stationary_change = 1e-7;
   // The same test for the harmonic ladder's refinement at H (search_harmonics = 1), which only
   // carries an H = 1 optimum to its neighbour at H: there a change of 1e-5 per iteration is far
-  // below what H itself changes the bounds by (H = 3 against H = 7: 0.5-1 % in y_max and R on
-  // the FE cascade's flank, docs/lumped-vs-fe.md), and the tail of iterations below it cost
-  // most of the refinement's time (docs/bounds-and-design.md).
+  // below what the truncation at H itself changes the bounds by (docs/lumped-vs-fe.md).
   double refinement_stationary_change = 1e-5;
   // The nonmonotone search's own stationarity: a reduced-space run stops (converged, on its best
   // iterate) once its best objective improved by at most stall_change (relative) over the last
   // stall_window accepted iterations. Its iterates may go up and down along the kinks of the
-  // response for the whole iteration limit without three quiet iterations in a row; on the FE
-  // cascade's default 50-point curve such runs took a third of the optimiser's time; the test
-  // makes the curve 0.80x as long, y_max within 6.3·10⁻⁴ and the peak the same
-  // (docs/bounds-and-design.md). stall_window 0: no such test.
+  // response for the whole iteration limit without three quiet iterations in a row.
+  // stall_window 0: no such test.
   double stall_change = 1e-4;
   int stall_window = 20;
   // Minimum runs of the amplitude objective try a Gauss-Newton step for the response phasor
@@ -110,8 +101,7 @@ struct BoundsOptions {
   // J δα = −y on the α box (J = ∂y/∂α, its second row by one more adjoint solve), accepted
   // where it halves φ = |y|². Where some α bring the response DOF to rest (next to its
   // anti-resonances) the projected gradient stops at kinks of the response or crawls; the
-  // Gauss-Newton steps cross them to y ≈ 0 in a few iterations (FE cascade's default curve:
-  // R 0.034-0.070 → < 0.001 at five frequencies, docs/bounds-and-design.md). After a failed
+  // Gauss-Newton steps cross them to y ≈ 0 in a few iterations. After a failed
   // step the next waits 2, 4, ... 64 iterations, so that runs towards a minimum y ≠ 0 lose
   // little. False: projected gradient only.
   bool gauss_newton_minimum = true;
@@ -119,13 +109,10 @@ struct BoundsOptions {
   // (those the gradient does not hold at a bound; the two-loop recursion of Nocedal 1980 over
   // the last maximum_bfgs_memory accepted steps with positive curvature), backtracking from the
   // full step, instead of the projected gradient with Barzilai-Borwein steps. Another path to
-  // other local maxima, not a better one everywhere: on the coarse FE cascade 20 single bounds
-  // (4 frequencies x 5 gamma, H = 3) gave y_max higher at 6 (up to +3.3 %), lower at 6 (down to
-  // -4.0 %), the same at 8, in the same time; the default 50-point curve y_max higher at 19
-  // points (up to +7.9 %), lower at 6 (down to -2.3 %), 1.03x the time. A second opinion on
-  // a maximum (CLI --max-bfgs-memory 5; docs/bounds-and-design.md). Minimum runs always take
-  // the gradient (with BFGS they lost the deep minima the Gauss-Newton steps find). 0
-  // (default): the gradient only.
+  // other local maxima, higher at some points and lower at others: a second opinion on a
+  // maximum (CLI --max-bfgs-memory 5; docs/decisions/0015-bound-runs-steps-and-stops.md). Minimum
+  // runs always take the gradient (with BFGS they lost the deep minima the Gauss-Newton steps
+  // find). 0 (default): the gradient only.
   int maximum_bfgs_memory = 0;
   Objective objective = kAmplitude;
   // Sample check: after the optimisation, the response is solved at this many random α (fixed
@@ -139,8 +126,9 @@ struct BoundsOptions {
   // re-optimises each bound at the system's H from its H = 1 optimum (higher harmonics zero,
   // ImproveBounds); a bound whose refinement fails is searched again at H in full. The bounds
   // are solutions at H. Where contacts slip the H = 1 optimum lies next to the H = 3 one, and
-  // the multi-start costs a fifth of its price at H = 3 (docs/lumped-vs-fe.md). Ignored when the
-  // system has H = 1; an error where the system cannot drop harmonics (loads above H = 1).
+  // the multi-start costs a fraction of its price at H (docs/decisions/0004-harmonic-ladder.md).
+  // Ignored when the system has H = 1; an error where the system cannot drop harmonics (loads above
+  // H = 1).
   int search_harmonics = 0;
   // Minima that start nothing else stop at a negligible response: the harmonic ladder's
   // refinement at H of the minimum, and a curve's pass 2 (runs from the neighbours' optima,
@@ -149,10 +137,9 @@ struct BoundsOptions {
   // runs where pass 1's minimum is below that already. R is then below this ratio, which is all
   // the robustness needs, and the bound is that feasible point (BoundSolution::stationary false).
   // Next to an anti-resonance of the response DOF the runs otherwise drive y_min down by decades
-  // at R ~ 0 (FE cascade's default 50-point curve: 23 points; the curve's work −10 % by the
-  // refinement's stop, −14 % with pass 2's; every maximum the same). Not the search's own runs: a
-  // curve's pass 1 minima start the neighbours' runs, where stopping them early cost more than it
-  // saved (benchmarks/README.md, 2026-11-27). 0: every run goes on to its stopping tests.
+  // at R ~ 0. Not the search's own runs: a curve's pass 1 minima start the neighbours' runs,
+  // where stopping them early costs more than it saves. 0: every run goes on to its stopping
+  // tests.
   double negligible_minimum = 1e-3;
   // A minimising run of the amplitude objective stops at a response at or below this [m]; 0:
   // never. The harmonic ladder sets it from negligible_minimum for its refinement.
@@ -344,8 +331,8 @@ struct KnownSolution {
   bool cold_start = true;
   // With cold_start: the start may lie short of α, where the α homotopy from 0 stops (a kink of
   // the contact laws it cannot pass) — the run needs a solution near α, not at it — instead of the
-  // continuations in frequency (the ladder's refinement: 384 s for one start at 1098.98 Hz on the
-  // FE cascade's curve). Seeds keep the continuations: they find branches the α path does not.
+  // continuations in frequency, which take minutes next to a resonance. Seeds keep the
+  // continuations: they find branches the α path does not.
   bool start_short_of_alpha = false;
 };
 

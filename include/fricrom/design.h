@@ -53,11 +53,8 @@ struct BoundCurveOptions {
   //              the point before it in the sweep, the better of the two kept: an optimum found
   //              at one frequency travels the whole curve in one pass (two units of work);
   //  kNeighbours each point from the pass-1 optima of i − 1 and i + 1 (n units, any order): an
-  //              optimum travels one point per pass.
-  // On the FE cascade's 50-point curve kNeighbours left y_max 5.5 % below the best bound any of
-  // several searches found (mean over the points; by more than 1 % at 38 of them; the pass
-  // repeated nine times still 1.8 %) and R 0.06 above it; the sweeps ~1 % and 0.004 in about
-  // the same time (benchmarks/README.md).
+  //              optimum travels one point per pass, so a maximum found at one point reaches
+  //              few others (docs/decisions/0015-bound-runs-steps-and-stops.md).
   enum NeighbourPass { kSweeps, kNeighbours };
   NeighbourPass neighbour_pass = kSweeps;
   // Pass 1 in full (every seed, the sample check) at every anchor_every-th frequency and the

@@ -46,9 +46,8 @@ struct FrfOptions {
   // frequency it reached is looping over traced ground: TraceFrf jumps ahead as from a stall.
   double turn_back_limit = 0.2;
   // TraceFrf's corrector and predictor (ContinuationOptions): the secant predictor and a short
-  // corrector budget. A rejected corrector costs most where contacts switch state: 87 % of the
-  // residual evaluations of the FE cascade's corner trace went to correctors that failed after
-  // 16 damped iterations.
+  // corrector budget: where contacts switch state a corrector that has not converged in a few
+  // iterations rarely does, and a shorter step is cheaper than its damped iterations.
   bool secant_predictor = true;
   int max_corrector_iterations = 10;
   int max_corrector_backtracks = 5;

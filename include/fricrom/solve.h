@@ -82,10 +82,7 @@ struct NewtonOptions {
   double krylov_tolerance = 1e-9;
   // No GMRES step is solved past krylov_oversolve · residual_tolerance / (‖R‖/scale) relative:
   // a linear residual far below the Newton tolerance buys nothing (Kelley 1995, §6.3, the
-  // safeguard on the Eisenstat-Walker forcing term). On the FE cascade's line-search solves the
-  // last step went to 1e-6...1e-9 for a residual of 1e-8...1e-10; this cut their GMRES products
-  // by 23 % at the same Newton iterations (1086.73 Hz: 14 209 -> 10 993 in 982 solves). 0 switches
-  // it off.
+  // safeguard on the Eisenstat-Walker forcing term). 0 switches it off.
   double krylov_oversolve = 0.5;
   bool IsValid(std::string* error) const;
 };

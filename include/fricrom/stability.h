@@ -43,8 +43,8 @@ struct HillResult {
   bool stable = false;
   // Contacts that switch between stick and slip within the period: the AFT linearises a
   // non-smooth law along its samples there, and the verdict is an approximation that time
-  // integration from the solution decides (measured on the FE cascade: growing exponents of
-  // +500 1/s at solutions the run stays on).
+  // integration from the solution decides (Hill may report growing exponents at solutions a
+  // time integration stays on; docs/stability.md).
   int switching_contacts = 0;
   bool approximate() const { return switching_contacts > 0; }
   std::string message;  // why, in a line
