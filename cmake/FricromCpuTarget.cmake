@@ -1,8 +1,8 @@
 # Instruction set of the build. By default, where the compiler and the building machine both
 # support it, the whole project (library, CLI, tests, benchmarks: one setting, so Eigen's
 # alignment and packet sizes agree across translation units) is compiled for x86-64-v3 (AVX2,
-# FMA, BMI2; every x86-64 server since ~2015): ~10 % less time on the FE bounds
-# (benchmarks/README.md). -DFRICROM_PORTABLE=ON builds for any x86-64 instead, for binaries that
+# FMA, BMI2; every x86-64 server since ~2015): less time on the FE bounds
+# (docs/decisions/0013-x86-64-v3-build.md). -DFRICROM_PORTABLE=ON builds for any x86-64 instead, for binaries that
 # must run on other machines. -ffp-contract=off keeps each scalar expression rounded as written
 # (no fused multiply-adds the source does not ask for): results differ from the portable build
 # only where Eigen's wider packets reorder sums.

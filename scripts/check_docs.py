@@ -6,7 +6,8 @@ Usage:
 
 Rules (docs/ without docs/decisions/, README.md, benchmarks/README.md, include/fricrom/):
   1. the word "session" does not occur (the history lives in git and docs/decisions/);
-  2. a date (YYYY-MM-DD) stands only beside a measured number on the same line or table row;
+  2. a date (YYYY-MM-DD) stands only beside a measured number: on its line or table row, or on
+     the two lines before or after it in the same paragraph;
   3. every image `![..](path)` exists, and one of the two lines below it names the script that
      regenerates it (`scripts/NAME.py` or `scripts/NAME.sh`, a file that exists).
 Figures under docs/figures/ that no page shows are listed too: a figure nobody reads is stale.
@@ -20,7 +21,7 @@ DATE = re.compile(r"\b20\d\d-\d\d-\d\d\b")
 # A measured number: a value with a unit or a ratio, e.g. "36.1 s", "0.752", "+9.8 %", "1.5e-4 m".
 MEASURED = re.compile(
     r"\d(?:[.,]\d+)?(?:[eE·][−\-+]?\d+|·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?\s?"
-    r"(?:s|ms|µs|us|ns|min|h|Hz|m|mm|MiB|GiB|MB|GB|%|×|x|1/s|points|pts|runs)\b"
+    r"(?:s|ms|µs|us|ns|min|h|Hz|m|mm|N|kN|J|Pa|MiB|GiB|MB|GB|%|×|x|1/s|points|pts|runs)\b"
     r"|\b\d+\.\d+\b")
 IMAGE = re.compile(r"!\[[^\]]*\]\(([^)\s]+)\)")
 SCRIPT = re.compile(r"scripts/([A-Za-z0-9_\-]+\.(?:py|sh))")
@@ -44,7 +45,14 @@ def check_file(repo, path, shown):
         if SESSION.search(line):
             findings.append(f"{where}: mentions a session: {line.strip()[:100]}")
         for date in DATE.finditer(line):
+            # Beside: on its line, or on the two lines before or after it in the same paragraph
+            # (a date that closes or introduces a sentence or a table of measurements).
             rest = line[:date.start()] + line[date.end():]
+            for step in (1, -1):
+                for j in range(i + step, i + 3 * step, step):
+                    if j < 0 or j >= len(lines) or not lines[j].strip():
+                        break
+                    rest += " " + lines[j]
             if not MEASURED.search(rest):
                 findings.append(f"{where}: date {date.group(0)} beside no measured number")
         for image in IMAGE.finditer(line):

@@ -76,7 +76,8 @@ struct NewtonOptions {
   // krylov_tolerance (relative) within krylov_max_iterations products; 0 = a new LU every step.
   // Their new LUs are single precision (GMRES restores double accuracy; a double LU if it
   // misses). The default keeps small (lumped) systems on the plain LU route, bit for bit.
-  // 20 products: a product costs ~1/40 of a new LU at 600 unknowns (benchmarks/README.md).
+  // 20 products: a product costs a small fraction of a new LU
+  // (docs/decisions/0009-matrix-free-newton.md).
   int krylov_min_size = 96;
   int krylov_max_iterations = 20;
   double krylov_tolerance = 1e-9;

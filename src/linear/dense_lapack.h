@@ -1,8 +1,8 @@
 // Private: dense kernels through the system BLAS/LAPACK (OpenBLAS at run time in our setup).
 // Why: Eigen's portable kernels are built for the baseline x86-64 ISA (no -march), while
-// OpenBLAS dispatches to the CPU's vector units and threads: on the 2-core CI machine dgetrf is
-// 2.2x Eigen's PartialPivLU at n = 603 and 4x at 1407, dsygvd 3.7-7.5x the generalised
-// eigensolver (benchmarks/README.md). Small systems (the lumped model) keep Eigen's routines
+// OpenBLAS dispatches to the CPU's vector units and threads, several times faster on the
+// condensed Jacobians and the modal decomposition (docs/decisions/0008-modal-receptance.md,
+// benchmarks/README.md "dense LU"). Small systems (the lumped model) keep Eigen's routines
 // bit for bit, so their results do not move.
 #pragma once
 

@@ -2,7 +2,7 @@
 // Jacobians of the condensed balance differ only in the blocks of the contacts whose state moved,
 // so A M⁻¹ (M = an earlier Jacobian) is the identity plus a small or low-rank change and GMRES
 // converges in a few matrix-vector products - far cheaper than a new dense LU
-// (benchmarks/README.md).
+// (docs/decisions/0009-matrix-free-newton.md).
 #pragma once
 
 #include <Eigen/Dense>
