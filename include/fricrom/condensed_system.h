@@ -70,7 +70,8 @@ class CondensedSystem : public HarmonicBalance {
   std::vector<ContactRegime> ContactRegimes(const Eigen::VectorXd& x, double omega,
                                             const Eigen::VectorXd& alpha) const override;
 
-  // The relative-displacement operator B (num_relative() × DOFs), the stick stiffness per row
+  // The relative-displacement operator B (num_relative() × DOFs; harmonic 0's on a cyclic
+  // sector, whose harmonics h ≥ 1 read the next sector delayed), the stick stiffness per row
   // (K_s = diag) and contact c's tangential row: the linear part a Hill analysis reduces.
   const Eigen::MatrixXd& relative_operator() const { return b_; }
   const Eigen::VectorXd& stick_stiffness() const { return ks_; }
@@ -115,6 +116,10 @@ class CondensedSystem : public HarmonicBalance {
   Model model_;
   HbmOptions options_;
   Eigen::MatrixXd b_;  // relative-displacement operator, one row per distinct (u or v) row
+  // Cyclic symmetry: each row's terms on the next sector's DOFs (part of b_, which is harmonic
+  // 0's operator) and the delay per harmonic of its contact; empty without cyclic contacts.
+  Eigen::MatrixXd next_;
+  Eigen::VectorXd phase_;
   std::vector<int> row_t_, row_n_;  // each contact's tangential and normal row of b_
   Eigen::VectorXd ks_;              // stick stiffness per row (sum of the contacts' kt or kn on it)
   Eigen::VectorXd w_;               // row weights of R_r

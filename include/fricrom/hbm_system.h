@@ -64,6 +64,9 @@ class HbmSystem : public HarmonicBalance {
 
  private:
   struct Workspace;
+  // Residual, Jacobian and α-Jacobian terms of a cyclic contact (AFT evaluated in the workspace).
+  void AddCyclicContactForces(const Contact& c, int ci, const HbmRequest& request,
+                              Eigen::VectorXd* r, HbmEvaluation* out) const;
   Model model_;
   HbmOptions options_;
   std::unique_ptr<Workspace> work_;

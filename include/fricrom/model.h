@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,38 @@ struct Contact {
   double kt = 0.0;              // tangential contact stiffness [N/m]
   double mu = 0.0;              // friction coefficient [-]
   double normal_preload = 0.0;  // N0 [N] added to kn·v (0 in the coupled static/dynamic approach)
+  // Cyclic symmetry: side B is a node of the next sector, represented by this sector's copy of
+  // it. The next sector's displacement along a direction d is (Rᵀd)ᵀ q_B of the copy, with R the
+  // sector rotation, one sector later in the travelling wave: its harmonic h lags by h·phase_b.
+  // normal_b, tangent_b = Rᵀ normal, Rᵀ tangent (empty: an ordinary contact, side B's directions
+  // are normal and tangent); phase_b = 2π·EO/N [rad] (CyclicSectorPhase).
+  Eigen::VectorXd normal_b;
+  Eigen::VectorXd tangent_b;
+  double phase_b = 0.0;
+
+  bool cyclic() const { return normal_b.size() > 0 || phase_b != 0.0; }
+  const Eigen::VectorXd& NormalB() const { return normal_b.size() > 0 ? normal_b : normal; }
+  const Eigen::VectorXd& TangentB() const { return tangent_b.size() > 0 ? tangent_b : tangent; }
 };
+
+// One sector of a bladed disk of `sectors` identical sectors under an engine-order excitation:
+// sector s's response is sector 0's delayed by s·φ/ω, φ = 2π·engine_order/sectors, so harmonic h
+// of the next sector is harmonic h of this one rotated by h·φ (RotateHarmonic).
+struct CyclicSymmetry {
+  int sectors = 0;  // 0: no cyclic symmetry
+  int engine_order = 0;
+  double phase() const;  // φ [rad]
+  // Throws std::invalid_argument unless sectors >= 2 and 0 <= engine_order <= sectors / 2.
+  void Validate() const;
+};
+
+// The cos/sin coefficients (a, b) of one harmonic of a signal delayed by the phase θ:
+// a cos(τ − θ) + b sin(τ − θ) = (a cos θ − b sin θ) cos τ + (a sin θ + b cos θ) sin τ.
+inline void RotateHarmonic(double theta, double* a, double* b) {
+  const double c = std::cos(theta), s = std::sin(theta), a0 = *a;
+  *a = c * a0 - s * *b;
+  *b = s * a0 + c * *b;
+}
 
 // Harmonic force h: f(t) = cos·cos(hωt) + sin·sin(hωt) [N]; h = 0 is the static load (cos only).
 struct HarmonicLoad {
@@ -43,6 +75,8 @@ struct Model {
   // α group of each contact (contacts sharing one α, e.g. one per FE interface); empty: one α
   // per contact.
   std::vector<int> alpha_group;
+  // A sector of a cyclic model (its cyclic contacts carry phase_b); sectors = 0: not cyclic.
+  CyclicSymmetry cyclic;
 
   int num_dofs() const { return static_cast<int>(dof_names.size()); }
   int num_alpha() const;  // α the solvers vary: groups, or contacts without groups
@@ -57,6 +91,16 @@ struct Model {
 };
 
 // Linearised stiffness of every contact (kn·n nᵀ + kt·t tᵀ between A and B): the full-stick system.
+// For a cyclic sector this is harmonic 0's (the static state, nodal diameter 0).
 Eigen::MatrixXd ContactStickStiffness(const Model& model);
+// The same for harmonic h in the real block form on [cos; sin] (2n × 2n for h ≥ 1; n × n for
+// h = 0): diag(K_s, K_s) for ordinary contacts; a cyclic contact couples cos and sin of side B
+// through the phase h·phase_b (nodal diameter h·EO).
+Eigen::MatrixXd ContactStickStiffness(const Model& model, int harmonic);
+// Whether any contact couples to the next sector (cyclic symmetry).
+bool HasCyclicContacts(const Model& model);
+// Throws std::invalid_argument naming `who` when the model has cyclic contacts: for the routes
+// whose linear part or time stepping cannot represent the delay between sectors.
+void RequireNoCyclicContacts(const Model& model, const std::string& who);
 
 }  // namespace fricrom

@@ -27,12 +27,16 @@ bool FullStick(const ContactForceBlocks& f) {
 
 // One contact's relative-displacement row along `dir` (tangent or normal), as sorted (DOF,
 // coefficient) terms: the key that finds rows two contacts share.
+// A cyclic contact's side-B terms act on the next sector's DOFs: keyed as DOF + n, so that
+// they stay apart from this sector's and the row knows them.
 using SparseRow = std::vector<std::pair<int, double>>;
-SparseRow ContactRow(const Contact& ct, const Eigen::VectorXd& dir) {
+SparseRow ContactRow(const Contact& ct, const Eigen::VectorXd& dir, const Eigen::VectorXd& dir_b,
+                     int n) {
   std::map<int, double> terms;
+  const int next = ct.cyclic() ? n : 0;
   for (int i = 0; i < dir.size(); ++i) {
     if (ct.dofs_a[i] >= 0) terms[ct.dofs_a[i]] += dir[i];
-    if (ct.dofs_b[i] >= 0) terms[ct.dofs_b[i]] -= dir[i];
+    if (ct.dofs_b[i] >= 0) terms[ct.dofs_b[i] + next] -= dir_b[i];
   }
   SparseRow row;
   for (const auto& [dof, value] : terms) {
@@ -59,17 +63,32 @@ void CondensedSystem::BuildRelativeRows() {
   row_n_.resize(nc);
   for (int c = 0; c < nc; ++c) {
     const Contact& ct = model_.contacts[c];
-    row_t_[c] = row_of(ContactRow(ct, ct.tangent));
-    row_n_[c] = row_of(ContactRow(ct, ct.normal));
+    const int n = model_.num_dofs();
+    row_t_[c] = row_of(ContactRow(ct, ct.tangent, ct.TangentB(), n));
+    row_n_[c] = row_of(ContactRow(ct, ct.normal, ct.NormalB(), n));
     if (row_t_[c] == row_n_[c]) {
       throw std::invalid_argument("CondensedSystem: contact " + std::to_string(c) +
                                   " has the same tangential and normal relative displacement");
     }
   }
-  const int nr = static_cast<int>(rows.size());
-  b_ = Eigen::MatrixXd::Zero(nr, model_.num_dofs());
+  const int nr = static_cast<int>(rows.size()), n = model_.num_dofs();
+  b_ = Eigen::MatrixXd::Zero(nr, n);
+  const bool cyclic = HasCyclicContacts(model_);
+  if (cyclic) {
+    next_ = Eigen::MatrixXd::Zero(nr, n);
+    phase_ = Eigen::VectorXd::Zero(nr);
+  }
   for (int r = 0; r < nr; ++r) {
-    for (const auto& [dof, value] : rows[r]) b_(r, dof) = value;
+    for (const auto& [key, value] : rows[r]) {
+      b_(r, key % n) += value;  // harmonic 0: the next sector's static state is this one's
+      if (key >= n) next_(r, key - n) += value;
+    }
+  }
+  for (int c = 0; c < nc && cyclic; ++c) {
+    const Contact& ct = model_.contacts[c];
+    if (!ct.cyclic()) continue;
+    phase_[row_t_[c]] = ct.phase_b;
+    phase_[row_n_[c]] = ct.phase_b;
   }
   ks_ = Eigen::VectorXd::Zero(nr);
   w_ = Eigen::VectorXd::Zero(nr);
@@ -97,6 +116,7 @@ CondensedSystem::CondensedSystem(Model model, const HbmOptions& options)
   const Eigen::MatrixXd k_stick = model_.stiffness + b_.transpose() * ks_.asDiagonal() * b_;
   receptance_ = std::make_shared<HarmonicReceptance>(k_stick, model_.mass, model_.damping, b_,
                                                      options_.harmonics, options_.receptance);
+  if (next_.size() > 0) receptance_->SetCyclicRows(next_, phase_, ks_);
   std::vector<Eigen::VectorXd> loads;
   for (int h = 0; h <= options_.harmonics; ++h) loads.push_back(Excitation(h));
   receptance_->SetFixedLoads(std::move(loads), model_.response_dof);
@@ -109,6 +129,8 @@ CondensedSystem::CondensedSystem(const CondensedSystem& higher, int harmonics)
     : model_(higher.model_),
       options_(higher.options_),
       b_(higher.b_),
+      next_(higher.next_),
+      phase_(higher.phase_),
       row_t_(higher.row_t_),
       row_n_(higher.row_n_),
       ks_(higher.ks_),
@@ -459,6 +481,14 @@ Eigen::VectorXd CondensedSystem::Condense(const Eigen::VectorXd& x_full) const {
   for (int j = 0; j < nh; ++j) {
     x.segment(Idx(j, 0), nr) = b_ * x_full.segment(j * n, n);
     x[Idx(j, nr)] = x_full[j * n + model_.response_dof];
+  }
+  for (int h = 1; h <= options_.harmonics && next_.size() > 0; ++h) {
+    // The cyclic rows read the next sector's harmonic h delayed (HarmonicReceptance::Relative).
+    Eigen::VectorXd block(2 * n);
+    block << x_full.segment((2 * h - 1) * n, n), x_full.segment(2 * h * n, n);
+    const Eigen::VectorXd r = receptance_->Relative(h, block);
+    x.segment(Idx(2 * h - 1, 0), nr) = r.head(nr);
+    x.segment(Idx(2 * h, 0), nr) = r.tail(nr);
   }
   return x;
 }

@@ -52,11 +52,33 @@ double CycleEnergy::loss_factor() const {
 
 namespace {
 
-// Relative displacement coefficients of a contact along direction `dir` (normal or tangent).
+// Harmonic by harmonic, the coefficients of side B of a cyclic contact delayed by one sector
+// (`sign` +1) or advanced (−1: the adjoint, which carries forces back to this sector's copy).
+void DelaySideB(const Contact& c, double sign, Eigen::VectorXd* coefficients) {
+  for (int h = 1; 2 * h < coefficients->size(); ++h) {
+    RotateHarmonic(sign * h * c.phase_b, &(*coefficients)[2 * h - 1], &(*coefficients)[2 * h]);
+  }
+}
+
+// Relative displacement coefficients of a contact along direction `dir` of side A and `dir_b` of
+// side B (normal or tangent; they differ on a cyclic contact).
 void RelativeCoefficients(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& dir,
-                          const Eigen::VectorXd& x, Eigen::VectorXd* out) {
+                          const Eigen::VectorXd& dir_b, const Eigen::VectorXd& x,
+                          Eigen::VectorXd* out) {
   const int nh = sys.num_coefficients();
   out->setZero(nh);
+  if (c.cyclic()) {
+    Eigen::VectorXd side_b = Eigen::VectorXd::Zero(nh);
+    for (int i = 0; i < dir.size(); ++i) {
+      for (int j = 0; j < nh; ++j) {
+        if (c.dofs_a[i] >= 0) (*out)[j] += dir[i] * x[sys.Index(c.dofs_a[i], j)];
+        if (c.dofs_b[i] >= 0) side_b[j] += dir_b[i] * x[sys.Index(c.dofs_b[i], j)];
+      }
+    }
+    DelaySideB(c, 1.0, &side_b);
+    *out -= side_b;
+    return;
+  }
   for (int i = 0; i < dir.size(); ++i) {
     for (int j = 0; j < nh; ++j) {
       double rel = 0.0;
@@ -65,6 +87,17 @@ void RelativeCoefficients(const HbmSystem& sys, const Contact& c, const Eigen::V
       (*out)[j] += dir[i] * rel;
     }
   }
+}
+
+// The coefficient map of side B: identity, or the delay by one sector (nh × nh).
+Eigen::MatrixXd SideBMap(const Contact& c, int nh) {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Identity(nh, nh);
+  for (int col = 0; col < nh; ++col) {
+    Eigen::VectorXd e = p.col(col);
+    DelaySideB(c, 1.0, &e);
+    p.col(col) = e;
+  }
+  return p;
 }
 
 ContactLawParams LawParams(const Contact& c) {
@@ -95,6 +128,34 @@ void AddContactJacobian(const HbmSystem& sys, const Contact& c, const ContactFor
                         Eigen::MatrixXd* jacobian) {
   const int dim = static_cast<int>(c.normal.size());
   const int nh = sys.num_coefficients();
+  if (c.cyclic()) {
+    // Side B's rows and columns go through the delay P: ∂r/∂x_B = −d_b P, forces on B −Pᵀ d_b F.
+    const Eigen::MatrixXd p = SideBMap(c, nh);
+    const Eigen::VectorXd *dn[2] = {&c.normal, &c.NormalB()}, *dt[2] = {&c.tangent, &c.TangentB()};
+    for (int i = 0; i < dim; ++i) {
+      for (int e = 0; e < dim; ++e) {
+        const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
+        const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
+        for (int sr = 0; sr < 2; ++sr) {
+          if (rows[sr] < 0) continue;
+          for (int sc = 0; sc < 2; ++sc) {
+            if (cols[sc] < 0) continue;
+            const double ni = (*dn[sr])[i], ti = (*dt[sr])[i], ne = (*dn[sc])[e], te = (*dt[sc])[e];
+            Eigen::MatrixXd block = ni * ne * f.dn_dv + ti * (te * f.dt_du + ne * f.dt_dv);
+            if (sr == 1) block = p.transpose() * block;
+            if (sc == 1) block = block * p;
+            const double sign = (sr == sc) ? 1.0 : -1.0;
+            for (int j = 0; j < nh; ++j) {
+              for (int l = 0; l < nh; ++l) {
+                (*jacobian)(sys.Index(rows[sr], j), sys.Index(cols[sc], l)) += sign * block(j, l);
+              }
+            }
+          }
+        }
+      }
+    }
+    return;
+  }
   for (int i = 0; i < dim; ++i) {    // row direction
     for (int e = 0; e < dim; ++e) {  // column direction
       const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * f.dn_dv +
@@ -128,8 +189,8 @@ struct HbmSystem::Workspace {
   // AFT of one contact of `sys` at x: relative coefficients (uh, vh) -> forces f.
   void Aft(const HbmSystem& sys, const Contact& c, const Eigen::VectorXd& x, double alpha,
            AftDerivatives derivatives = {}) {
-    RelativeCoefficients(sys, c, c.tangent, x, &uh);
-    RelativeCoefficients(sys, c, c.normal, x, &vh);
+    RelativeCoefficients(sys, c, c.tangent, c.TangentB(), x, &uh);
+    RelativeCoefficients(sys, c, c.normal, c.NormalB(), x, &vh);
     aft.Evaluate(LawParams(c), uh, vh, alpha, derivatives, &f);
   }
 };
@@ -187,7 +248,8 @@ JacobianPattern HbmSystem::StructuralPattern() const {
       for (const int d : {ct.dofs_a[i], ct.dofs_b[i]}) {
         if (d < 0) continue;
         dofs.push_back(d);
-        if (ct.tangent[static_cast<Eigen::Index>(i)] != 0.0) moved.push_back(d);
+        const Eigen::VectorXd& t = d == ct.dofs_a[i] ? ct.tangent : ct.TangentB();
+        if (t[static_cast<Eigen::Index>(i)] != 0.0 || ct.cyclic()) moved.push_back(d);
       }
     }
     for (const int r : dofs) {
@@ -267,6 +329,10 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
     w.Aft(*this, c, x, alpha[ci], AftDerivatives{request.jacobian, request.alpha_jacobian});
 
     const int dim = static_cast<int>(c.normal.size());
+    if (c.cyclic()) {
+      AddCyclicContactForces(c, ci, request, &r, out);
+      continue;
+    }
     // Residual: side A gets +(N n + T t), side B the opposite.
     for (int i = 0; i < dim; ++i) {
       for (int j = 0; j < nh; ++j) {
@@ -292,6 +358,32 @@ void HbmSystem::Evaluate(const Eigen::VectorXd& x, double omega, const Eigen::Ve
   }
 }
 
+// A cyclic contact's forces (after w.Aft): side A gets +(N n + T t); this sector's copy of side
+// B gets −(N n_b + T t_b) advanced by one sector (the previous sector's contact acts on it).
+void HbmSystem::AddCyclicContactForces(const Contact& c, int ci, const HbmRequest& request,
+                                       Eigen::VectorXd* r, HbmEvaluation* out) const {
+  const Workspace& w = *work_;
+  const int dim = static_cast<int>(c.normal.size()), nh = num_coefficients();
+  Eigen::VectorXd fb_n = w.f.n, fb_t = w.f.t, gb = w.f.dt_dalpha;
+  DelaySideB(c, -1.0, &fb_n);
+  DelaySideB(c, -1.0, &fb_t);
+  if (request.alpha_jacobian) DelaySideB(c, -1.0, &gb);
+  for (int i = 0; i < dim; ++i) {
+    for (int j = 0; j < nh; ++j) {
+      if (c.dofs_a[i] >= 0)
+        (*r)[Index(c.dofs_a[i], j)] += c.normal[i] * w.f.n[j] + c.tangent[i] * w.f.t[j];
+      if (c.dofs_b[i] >= 0)
+        (*r)[Index(c.dofs_b[i], j)] -= c.NormalB()[i] * fb_n[j] + c.TangentB()[i] * fb_t[j];
+      if (!request.alpha_jacobian) continue;
+      if (c.dofs_a[i] >= 0)
+        out->alpha_jacobian(Index(c.dofs_a[i], j), ci) += c.tangent[i] * w.f.dt_dalpha[j];
+      if (c.dofs_b[i] >= 0)
+        out->alpha_jacobian(Index(c.dofs_b[i], j), ci) -= c.TangentB()[i] * gb[j];
+    }
+  }
+  if (request.jacobian) AddContactJacobian(*this, c, w.f, &out->jacobian);
+}
+
 double HbmSystem::ResidualScale() const {
   double s2 = 0.0;
   for (const HarmonicLoad& load : model_.loads) {
@@ -303,12 +395,13 @@ double HbmSystem::ResidualScale() const {
 Eigen::VectorXd HbmSystem::StickLinearSolution(double omega) const {
   const int n = num_dofs();
   const Eigen::MatrixXd k = model_.stiffness + ContactStickStiffness(model_);
+  const bool cyclic = HasCyclicContacts(model_);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(num_unknowns());
   Eigen::VectorXd f0 = Eigen::VectorXd::Zero(n);
   for (const Contact& c : model_.contacts) {  // preloaded normal springs push A and B apart
     for (int i = 0; i < c.normal.size(); ++i) {
       if (c.dofs_a[i] >= 0) f0[c.dofs_a[i]] -= c.normal_preload * c.normal[i];
-      if (c.dofs_b[i] >= 0) f0[c.dofs_b[i]] += c.normal_preload * c.normal[i];
+      if (c.dofs_b[i] >= 0) f0[c.dofs_b[i]] += c.normal_preload * c.NormalB()[i];
     }
   }
   for (int h = 0; h <= options_.harmonics; ++h) {
@@ -324,8 +417,9 @@ Eigen::VectorXd HbmSystem::StickLinearSolution(double omega) const {
     }
     const double hw = h * omega;
     Eigen::MatrixXd a(2 * n, 2 * n);
-    const Eigen::MatrixXd kd = k - hw * hw * model_.mass;
+    const Eigen::MatrixXd kd = (cyclic ? model_.stiffness : k) - hw * hw * model_.mass;
     a << kd, hw * model_.damping, -hw * model_.damping, kd;
+    if (cyclic) a += ContactStickStiffness(model_, h);  // couples cos and sin through the phase
     Eigen::VectorXd rhs(2 * n);
     rhs << fc, fs;
     const Eigen::VectorXd sol = a.partialPivLu().solve(rhs);

@@ -88,6 +88,39 @@ HarmonicReceptance::HarmonicReceptance(Eigen::MatrixXd k, Eigen::MatrixXd m, Eig
   }
 }
 
+void HarmonicReceptance::SetCyclicRows(Eigen::MatrixXd next, Eigen::VectorXd phase,
+                                       Eigen::VectorXd stick) {
+  if (method_ != ReceptanceMethod::kDense) {
+    throw std::invalid_argument(
+        "HarmonicReceptance: cyclic-symmetry sectors need the dense receptance "
+        "(analysis.receptance = \"dense\"): the modes of the stuck sector differ per harmonic");
+  }
+  if (next.rows() != b_.rows() || next.cols() != b_.cols() || phase.size() != b_.rows() ||
+      stick.size() != b_.rows() || omega_ >= 0.0) {
+    throw std::invalid_argument(
+        "HarmonicReceptance::SetCyclicRows: inconsistent sizes, or called "
+        "after SetFrequency");
+  }
+  next_ = std::move(next);
+  phase_ = std::move(phase);
+  stick_ = std::move(stick);
+}
+
+Eigen::MatrixXd HarmonicReceptance::BlockB(int h) const {
+  const int n = num_dofs(), nr = num_relative();
+  Eigen::MatrixXd bh = Eigen::MatrixXd::Zero(2 * nr, 2 * n);
+  bh.topLeftCorner(nr, n) = b_;
+  bh.bottomRightCorner(nr, n) = b_;
+  if (!cyclic()) return bh;
+  // The next sector's coefficients (a, b) read delayed: (c a − s b, s a + c b), c, s of h·phase.
+  const Eigen::ArrayXd c = (h * phase_.array()).cos() - 1.0, s = (h * phase_.array()).sin();
+  bh.topLeftCorner(nr, n) += c.matrix().asDiagonal() * next_;
+  bh.bottomRightCorner(nr, n) += c.matrix().asDiagonal() * next_;
+  bh.topRightCorner(nr, n) = -(s.matrix().asDiagonal() * next_);
+  bh.bottomLeftCorner(nr, n) = s.matrix().asDiagonal() * next_;
+  return bh;
+}
+
 void HarmonicReceptance::SetFrequency(double omega, int harmonics) {
   const int top = harmonics < 0 ? harmonics_ : std::min(harmonics, harmonics_);
   omega_ = omega;
@@ -337,10 +370,21 @@ void HarmonicReceptance::FormDense(int h, double omega) {
     const Eigen::MatrixXd kd = k_ - hw * hw * m_;
     Eigen::MatrixXd z(2 * n, 2 * n);
     z << kd, hw * c_, -hw * c_, kd;
+    if (cyclic()) {
+      // k holds harmonic 0's stick springs B_0ᵀ K_s B_0; harmonic h's are B_hᵀ K_s B_h.
+      const Eigen::MatrixXd bh = BlockB(h);
+      const Eigen::VectorXd ks2 = stick_.replicate(2, 1);
+      const Eigen::MatrixXd k0 = b_.transpose() * stick_.asDiagonal() * b_;
+      z += bh.transpose() * ks2.asDiagonal() * bh;
+      z.topLeftCorner(n, n) -= k0;
+      z.bottomRightCorner(n, n) -= k0;
+      bt = bh.transpose();
+    } else {
+      bt.setZero(2 * n, 2 * nr);
+      bt.topLeftCorner(n, nr) = b_.transpose();
+      bt.bottomRightCorner(n, nr) = b_.transpose();
+    }
     lu_[h].Compute(z);
-    bt.setZero(2 * n, 2 * nr);
-    bt.topLeftCorner(n, nr) = b_.transpose();
-    bt.bottomRightCorner(n, nr) = b_.transpose();
   }
   p_[h] = lu_[h].Solve(bt);
   g_[h] = dense::Product(bt, true, p_[h], false);
@@ -411,6 +455,7 @@ Eigen::VectorXd HarmonicReceptance::DampingTimes(const Eigen::VectorXd& x) const
 Eigen::VectorXd HarmonicReceptance::Relative(int h, const Eigen::VectorXd& x) const {
   const int n = num_dofs(), nr = num_relative();
   if (h == 0) return b_ * x;
+  if (cyclic()) return BlockB(h) * x;
   Eigen::VectorXd r(2 * nr);
   r.head(nr) = b_ * x.head(n);
   r.tail(nr) = b_ * x.tail(n);

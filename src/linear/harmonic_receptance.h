@@ -31,6 +31,11 @@ class HarmonicReceptance {
   // 6 symmetric products per ω there. Until formed at the current ω, a harmonic's accessors throw
   // std::logic_error.
   void SetFrequency(double omega, int harmonics = -1);
+  // Cyclic symmetry (dense route, before any SetFrequency): the rows' terms on the next
+  // sector's DOFs (`next`, n_r × n, part of B), which harmonic h ≥ 1 reads delayed by
+  // h·phase[r] (Contact::phase_b), and the stick stiffness per row (K_s) that regularises k:
+  // B_h and Z_h's stick springs become those of nodal diameter h·EO. Throws for the modal route.
+  void SetCyclicRows(Eigen::MatrixXd next, Eigen::VectorXd phase, Eigen::VectorXd stick);
   // Fixed loads f_h (n entries for h = 0, 2n for h ≥ 1; empty = none) and one DOF of interest:
   // their responses Z_h⁻¹ f_h, its relative part B_h Z_h⁻¹ f_h and P_h's rows of the DOF are
   // kept per ω, so a Newton step at fixed ω needs only G_h products (n_r² instead of n n_r).
@@ -97,7 +102,14 @@ class HarmonicReceptance {
   // C x, or in the modal route the damping it models, M Φ diag(c) Φᵀ M x.
   Eigen::VectorXd DampingTimes(const Eigen::VectorXd& x) const;
 
+  // B_h in the real block form on [cos; sin] (2n_r × 2n) for h ≥ 1: diag(B, B), or the cyclic
+  // rows' delayed next-sector terms.
+  Eigen::MatrixXd BlockB(int h) const;
+  bool cyclic() const { return next_.size() > 0; }
+
   Eigen::MatrixXd k_, m_, c_, b_;
+  Eigen::MatrixXd next_;           // cyclic rows' next-sector terms (empty: no cyclic rows)
+  Eigen::VectorXd phase_, stick_;  // per row: delay per harmonic [rad], stick stiffness
   int harmonics_;
   ReceptanceMethod method_;
   double omega_ = -1.0;

@@ -109,6 +109,8 @@ ModalResult FreeSystemModes(const Model& model) {
 }
 
 ModalResult StickSystemModes(const Model& model) {
+  RequireNoCyclicContacts(model,
+                          "the full-stick modes (per nodal diameter: CyclicNaturalFrequencies)");
   return ComputeModes(model.stiffness + ContactStickStiffness(model), model.mass);
 }
 
@@ -152,7 +154,10 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
                                             ReceptanceMethod method) {
   std::vector<int> dofs = kind == LinearSystemKind::kFree ? model.free_dofs : AllDofs(model);
   Eigen::MatrixXd k = model.stiffness;
-  if (kind == LinearSystemKind::kStick) k += ContactStickStiffness(model);
+  if (kind == LinearSystemKind::kStick) {
+    RequireNoCyclicContacts(model, "the full-stick linear response");
+    k += ContactStickStiffness(model);
+  }
   int response = -1;
   for (size_t i = 0; i < dofs.size(); ++i) {
     if (dofs[i] == model.response_dof) response = static_cast<int>(i);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -44,6 +45,16 @@ void Model::Validate() const {
       fail(who + "normal and tangent must be unit vectors");
     }
     if (std::abs(c.normal.dot(c.tangent)) > 1e-9) fail(who + "normal and tangent not orthogonal");
+    if (c.normal_b.size() != c.tangent_b.size() ||
+        (c.normal_b.size() != 0 && c.normal_b.size() != dim)) {
+      fail(who + "normal_b and tangent_b must both be empty or have the length of normal");
+    }
+    if (c.normal_b.size() != 0 &&
+        (std::abs(c.normal_b.norm() - 1.0) > 1e-9 || std::abs(c.tangent_b.norm() - 1.0) > 1e-9 ||
+         std::abs(c.normal_b.dot(c.tangent_b)) > 1e-9)) {
+      fail(who + "normal_b and tangent_b must be orthogonal unit vectors");
+    }
+    if (!std::isfinite(c.phase_b)) fail(who + "phase_b must be finite");
     for (size_t i = 0; i < c.dofs_a.size(); ++i) {
       if (c.dofs_a[i] >= n || c.dofs_b[i] >= n) fail(who + "DOF index out of range");
     }
@@ -90,20 +101,113 @@ Eigen::VectorXd Model::ContactAlpha(const Eigen::VectorXd& alpha) const {
   return out;
 }
 
+void CyclicSymmetry::Validate() const {
+  if (sectors < 2) {
+    throw std::invalid_argument("cyclic symmetry needs at least 2 sectors, got " +
+                                std::to_string(sectors));
+  }
+  if (engine_order < 0 || engine_order > sectors / 2) {
+    throw std::invalid_argument("engine order must lie in 0.." + std::to_string(sectors / 2) +
+                                " for " + std::to_string(sectors) + " sectors, got " +
+                                std::to_string(engine_order));
+  }
+}
+
+double CyclicSymmetry::phase() const {
+  return sectors > 0 ? 2.0 * std::numbers::pi * engine_order / sectors : 0.0;
+}
+
+bool HasCyclicContacts(const Model& model) {
+  return std::any_of(model.contacts.begin(), model.contacts.end(),
+                     [](const Contact& c) { return c.cyclic(); });
+}
+
+void RequireNoCyclicContacts(const Model& model, const std::string& who) {
+  if (HasCyclicContacts(model)) {
+    throw std::invalid_argument(who +
+                                " does not handle cyclic-symmetry contacts (a sector's "
+                                "contacts with the next sector); use the full harmonic balance "
+                                "or the explicit ring (ExpandCyclicRing)");
+  }
+}
+
+namespace {
+
+// One relative-displacement row of a contact in harmonic h's real block form: its cos row
+// (which = 0) or sin row (which = 1) over [q_cos; q_sin] (2n), or over q (n) for h = 0, as
+// (index, coefficient) terms.
+std::vector<std::pair<int, double>> StickRow(const Contact& c, bool normal, int h, int n,
+                                             int which) {
+  const Eigen::VectorXd& da = normal ? c.normal : c.tangent;
+  const Eigen::VectorXd& db = normal ? c.NormalB() : c.TangentB();
+  const double th = h * c.phase_b, co = std::cos(th), si = std::sin(th);
+  std::vector<std::pair<int, double>> row;
+  for (int i = 0; i < da.size(); ++i) {
+    const int a = c.dofs_a[static_cast<size_t>(i)], b = c.dofs_b[static_cast<size_t>(i)];
+    if (a >= 0) row.emplace_back(a + which * n, da[i]);
+    if (b < 0) continue;
+    if (h == 0) {
+      row.emplace_back(b, -db[i]);
+    } else if (which == 0) {  // cos row of the delayed side B: c·q_cos − s·q_sin
+      row.emplace_back(b, -db[i] * co);
+      row.emplace_back(b + n, db[i] * si);
+    } else {  // sin row: s·q_cos + c·q_sin
+      row.emplace_back(b, -db[i] * si);
+      row.emplace_back(b + n, -db[i] * co);
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
+Eigen::MatrixXd ContactStickStiffness(const Model& model, int harmonic) {
+  const int n = model.num_dofs(), size = harmonic == 0 ? n : 2 * n;
+  if (harmonic == 0 || !HasCyclicContacts(model)) {
+    const Eigen::MatrixXd k0 = ContactStickStiffness(model);
+    if (harmonic == 0) return k0;
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(size, size);
+    k.topLeftCorner(n, n) = k0;
+    k.bottomRightCorner(n, n) = k0;
+    return k;
+  }
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(size, size);
+  for (const Contact& c : model.contacts) {
+    for (const bool normal : {true, false}) {
+      const double stiffness = normal ? c.kn : c.kt;
+      for (int which = 0; which < (harmonic == 0 ? 1 : 2); ++which) {
+        const auto row = StickRow(c, normal, harmonic, n, which);
+        for (const auto& [i, ci] : row) {
+          for (const auto& [j, cj] : row) k(i, j) += stiffness * ci * cj;
+        }
+      }
+    }
+  }
+  return k;
+}
+
 Eigen::MatrixXd ContactStickStiffness(const Model& model) {
   const int n = model.num_dofs();
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
   for (const Contact& c : model.contacts) {
-    const Eigen::MatrixXd local =
+    // Side B's directions differ from A's only on a cyclic contact (the next sector's rotation).
+    const Eigen::VectorXd &nb = c.NormalB(), &tb = c.TangentB();
+    const Eigen::MatrixXd aa =
         c.kn * c.normal * c.normal.transpose() + c.kt * c.tangent * c.tangent.transpose();
+    const Eigen::MatrixXd bb =
+        c.cyclic() ? Eigen::MatrixXd(c.kn * nb * nb.transpose() + c.kt * tb * tb.transpose()) : aa;
+    const Eigen::MatrixXd ab =
+        c.cyclic()
+            ? Eigen::MatrixXd(c.kn * c.normal * nb.transpose() + c.kt * c.tangent * tb.transpose())
+            : aa;
     const int dim = static_cast<int>(c.normal.size());
     for (int i = 0; i < dim; ++i) {
       for (int j = 0; j < dim; ++j) {
         const int ai = c.dofs_a[i], bi = c.dofs_b[i], aj = c.dofs_a[j], bj = c.dofs_b[j];
-        if (ai >= 0 && aj >= 0) k(ai, aj) += local(i, j);
-        if (bi >= 0 && bj >= 0) k(bi, bj) += local(i, j);
-        if (ai >= 0 && bj >= 0) k(ai, bj) -= local(i, j);
-        if (bi >= 0 && aj >= 0) k(bi, aj) -= local(i, j);
+        if (ai >= 0 && aj >= 0) k(ai, aj) += aa(i, j);
+        if (bi >= 0 && bj >= 0) k(bi, bj) += bb(i, j);
+        if (ai >= 0 && bj >= 0) k(ai, bj) -= ab(i, j);
+        if (bi >= 0 && aj >= 0) k(bi, aj) -= ab(j, i);
       }
     }
   }

@@ -60,6 +60,7 @@ struct CondensedHill::Modal {
 
 CondensedHill::CondensedHill(const CondensedSystem& system)
     : system_(system), modal_(std::make_unique<Modal>()) {
+  RequireNoCyclicContacts(system.model(), "Hill's stability analysis");
   const Model& model = system.model();
   modal_->k_s = model.stiffness + ContactStickStiffness(model);
   try {

@@ -55,6 +55,7 @@ namespace {
 // limit, its modes are the implicit scheme's basis (throws if M is not positive definite).
 // FE-sized systems use LAPACK's dsygvd; small ones keep Eigen's solver, bit for bit.
 ModalResult FullStickModes(const Model& model, const std::string& caller) {
+  RequireNoCyclicContacts(model, caller);
   ModalResult stick;
   if (model.num_dofs() <= 200) return StickSystemModes(model);
   Eigen::VectorXd lambda;
@@ -132,6 +133,7 @@ std::string ToString(TimeIntegrationResult::Status status) {
 
 TimeIntegrationResult IntegrateToSteadyState(const Model& model, const Eigen::VectorXd& alpha,
                                              const TimeIntegrationOptions& options) {
+  RequireNoCyclicContacts(model, "time integration");
   std::string error;
   if (!options.IsValid(&error)) {
     throw std::invalid_argument("IntegrateToSteadyState: " + error);
@@ -355,6 +357,7 @@ TimeIntegrationResult IntegrateFromPeriodicState(const Model& model, const Perio
     throw std::invalid_argument("IntegrateFromPeriodicState: " + error);
   }
   model.Validate();
+  RequireNoCyclicContacts(model, "time integration");
   const int n = model.num_dofs();
   if (start.displacement.size() != n || start.velocity.size() != n ||
       start.contact_alpha.size() != static_cast<Eigen::Index>(model.contacts.size())) {
