@@ -25,6 +25,7 @@
 #include "fricrom/blas_core.h"
 #include "fricrom/blas_threads.h"
 #include "fricrom/case_file.h"
+#include "fricrom/cyclic.h"
 #include "fricrom/fe_model.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
@@ -40,8 +41,66 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 // ---------------------------------------------------------------- modes
+// A cyclic sector: the free system's frequencies (the same at every nodal diameter: the rigid
+// disk couples the sectors only through the dampers) and the full-stick ones per nodal diameter.
+int RunCyclicModes(const Case& c, bool as_json, int count) {
+  const ModalResult free = FreeSystemModes(c.model);
+  const CyclicSymmetry& cyc = c.model.cyclic;
+  std::vector<Eigen::VectorXd> stick;
+  for (int nd = 0; nd <= cyc.sectors / 2; ++nd) {
+    stick.push_back(CyclicNaturalFrequencies(c.model, nd, true));
+  }
+  std::vector<int> harmonic_nd;
+  for (int h = 1; h <= c.analysis.harmonics; ++h)
+    harmonic_nd.push_back(NodalDiameterOfHarmonic(cyc, h));
+  if (as_json) {
+    json j;
+    j["case"] = c.name;
+    j["units"] = "Hz";
+    j["sectors"] = cyc.sectors;
+    j["engine_order"] = cyc.engine_order;
+    j["harmonic_nodal_diameters"] = harmonic_nd;
+    j["free_hz"] = std::vector<double>(free.frequencies_hz.data(),
+                                       free.frequencies_hz.data() + free.frequencies_hz.size());
+    json per_nd = json::array();
+    for (size_t nd = 0; nd < stick.size(); ++nd) {
+      per_nd.push_back({{"nodal_diameter", nd},
+                        {"stick_hz", std::vector<double>(stick[nd].data(),
+                                                         stick[nd].data() + stick[nd].size())}});
+    }
+    j["stick_by_nodal_diameter"] = per_nd;
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  const int total = static_cast<int>(stick[0].size());
+  const int shown = count > 0 ? std::min(count, total) : total;
+  std::cout << "Natural frequencies of " << c.name << " [Hz], one sector of " << cyc.sectors
+            << " (engine order " << cyc.engine_order << ": harmonic 1 at nodal diameter "
+            << harmonic_nd[0] << ")\n";
+  std::cout << "  free system (every nodal diameter):";
+  for (int i = 0; i < std::min<int>(shown, static_cast<int>(free.frequencies_hz.size())); ++i) {
+    std::cout << " " << std::fixed << std::setprecision(2) << free.frequencies_hz[i];
+  }
+  std::cout << "\n  full stick by nodal diameter:\n  mode";
+  for (size_t nd = 0; nd < stick.size(); ++nd)
+    std::cout << std::setw(10) << ("ND " + std::to_string(nd));
+  std::cout << "\n";
+  for (int i = 0; i < shown; ++i) {
+    std::cout << "  " << std::setw(4) << i + 1;
+    for (const Eigen::VectorXd& f : stick)
+      std::cout << std::setw(10) << std::fixed << std::setprecision(2) << f[i];
+    std::cout << "\n";
+  }
+  if (shown < total) {
+    std::cout << "  ... " << total - shown
+              << " more per nodal diameter (--count 0 lists every one; --json has them all)\n";
+  }
+  return 0;
+}
+
 int RunModes(const CaseArgs& args, bool as_json, int count) {
   const Case c = args.Load();
+  if (c.model.cyclic.sectors > 0) return RunCyclicModes(c, as_json, count);
   const ModalResult free = FreeSystemModes(c.model);
   const ModalResult stick = StickSystemModes(c.model);
   if (as_json) {

@@ -89,6 +89,7 @@ ModalResult ComputeModes(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd
 }
 
 ReceptanceMethod ChooseReceptance(const Model& model, int min_dofs) {
+  if (HasCyclicContacts(model)) return ReceptanceMethod::kDense;  // stuck modes per harmonic
   if (model.num_dofs() < min_dofs) return ReceptanceMethod::kDense;
   const Eigen::MatrixXd k = model.stiffness + ContactStickStiffness(model);
   Eigen::VectorXd lambda;

@@ -1,8 +1,8 @@
-// FE assembly case files (schema fricrom-assembly-1, docs/case-files.md): bodies
-// (assembly_bodies.cpp), node-to-node contacts with given frames, interfaces between node sets
-// (assembly_interfaces.cpp), nodal loads on nodes or node sets, body accelerations, and a response
-// DOF. Builds the same Model the lumped schema builds, with DOF names "body.node.component",
-// solved by default through the condensed balance.
+// FE assembly case files (schema fricrom-assembly-1, or -2 with [cyclic], docs/case-files.md):
+// bodies (assembly_bodies.cpp), node-to-node contacts with given frames, interfaces between node
+// sets (assembly_interfaces.cpp), nodal loads on nodes or node sets, body accelerations, and a
+// response DOF. Builds the same Model the lumped schema builds, with DOF names
+// "body.node.component", solved by default through the condensed balance.
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -280,6 +280,51 @@ void CheckHeld(const Reader& rd, const std::vector<AssemblyBody>& bodies, const 
               "exported matrices");
 }
 
+// [cyclic] (schema fricrom-assembly-2): the case's bodies are one sector of `sectors`; the next
+// sector is this one rotated by 2π/N about `axis` (right hand) through `origin`.
+bool ReadCyclic(const Reader& rd, const toml::table& root, const std::string& schema, Case* cs,
+                CyclicFrame* frame, toml::table* resolved) {
+  const toml::node* node = root.get("cyclic");
+  if (!node) return false;
+  if (schema != "fricrom-assembly-2") {
+    rd.Fail("cyclic", "cyclic symmetry needs schema = \"fricrom-assembly-2\"", node);
+  }
+  if (!node->is_table()) rd.Fail("cyclic", "expected a table", node);
+  const toml::table& t = *node->as_table();
+  rd.CheckKeys(t, "cyclic", {"sectors", "engine_order", "axis", "origin"});
+  const double n = rd.Number(t, "cyclic", "sectors");
+  if (!(n >= 2 && n == std::floor(n) && n <= 10000)) {
+    rd.Fail("cyclic.sectors",
+            "expected an integer >= 2 (sectors in the disk), got " + Reader::Fmt(n),
+            t.get("sectors"));
+  }
+  const int sectors = static_cast<int>(n);
+  const double eo = rd.Number(t, "cyclic", "engine_order");
+  if (!(eo >= 0 && eo == std::floor(eo) && eo <= sectors / 2)) {
+    rd.Fail("cyclic.engine_order",
+            "expected an integer in 0.." + std::to_string(sectors / 2) +
+                " (engine orders above N/2 alias to N - EO), got " + Reader::Fmt(eo),
+            t.get("engine_order"));
+  }
+  const Eigen::Vector3d axis = Vector3(rd, t, "cyclic", "axis");
+  if (!(axis.norm() > 0)) rd.Fail("cyclic.axis", "expected a non-zero vector", t.get("axis"));
+  const Eigen::Vector3d origin =
+      t.get("origin") ? Vector3(rd, t, "cyclic", "origin") : Eigen::Vector3d::Zero();
+  cs->model.cyclic.sectors = sectors;
+  cs->model.cyclic.engine_order = static_cast<int>(eo);
+  frame->next = RigidTransform::FromAxisAngle(axis, 2.0 * std::numbers::pi / sectors, origin,
+                                              Eigen::Vector3d::Zero());
+  frame->phase = cs->model.cyclic.phase();
+  const Eigen::Vector3d unit = axis.normalized();
+  resolved->insert("cyclic",
+                   toml::table{{"sectors", static_cast<int64_t>(sectors)},
+                               {"engine_order", static_cast<int64_t>(eo)},
+                               {"axis", toml::array{unit.x(), unit.y(), unit.z()}},
+                               {"origin", toml::array{origin.x(), origin.y(), origin.z()}},
+                               {"phase_rad", frame->phase}});
+  return true;
+}
+
 }  // namespace
 
 Case ParseAssembly(const toml::table& root, const std::string& source_name,
@@ -287,7 +332,8 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
   Reader rd(source_name);
   rd.CheckKeys(root, "",
                {"schema", "name", "description", "units", "parameters", "bodies", "contacts",
-                "interfaces", "loads", "accelerations", "response", "analysis"});
+                "interfaces", "loads", "accelerations", "response", "analysis", "cyclic"});
+  const std::string schema = rd.String(root, "", "schema");
   Case cs;
   cs.source = source_name;
   const std::string units = rd.String(root, "", "units");
@@ -295,13 +341,20 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
     rd.Fail("units", "only \"SI\" is supported, got \"" + units + "\"", root.get("units"));
   cs.name = rd.String(root, "", "name");
   cs.description = rd.StringOr(root, "", "description", "");
-  toml::table resolved{{"schema", "fricrom-assembly-1"}, {"units", "SI"}, {"name", cs.name}};
+  toml::table resolved{{"schema", schema}, {"units", "SI"}, {"name", cs.name}};
   ParseParameters(rd, root, overrides, &cs, &resolved);
   const std::filesystem::path base = std::filesystem::path(source_name).parent_path();
   toml::array rbodies, rcontacts, rinterfaces, raccel;
   const std::vector<AssemblyBody> bodies = ReadAssemblyBodies(rd, root, base, &cs.model, &rbodies);
+  CyclicFrame frame;
+  const bool cyclic = ReadCyclic(rd, root, schema, &cs, &frame, &resolved);
   ReadContacts(rd, root, bodies, &cs, &rcontacts);
-  ReadInterfaces(rd, root, bodies, &cs, &rinterfaces);
+  ReadInterfaces(rd, root, bodies, cyclic ? &frame : nullptr, &cs, &rinterfaces);
+  if (cyclic && !HasCyclicContacts(cs.model)) {
+    rd.Fail("cyclic",
+            "no interface couples to the next sector: give one side b sector = \"next\" (the "
+            "sectors would be uncoupled)");
+  }
   if (cs.model.contacts.empty()) rd.Fail("contacts", "the assembly has no contact or interface");
   ReadLoads(rd, root, bodies, &cs.model);
   ReadAccelerations(rd, root, bodies, &cs.model, &raccel);
@@ -314,6 +367,13 @@ Case ParseAssembly(const toml::table& root, const std::string& source_name,
   ParseAnalysis(rd, root, rd.Array(root, "", "loads"), cs.model.num_alpha(),
                 BalanceKind::kCondensed, &cs.analysis, &resolved);
   const toml::table* analysis = root["analysis"].as_table();
+  if (cyclic && cs.analysis.receptance == ReceptanceMethod::kModal && analysis &&
+      analysis->get("receptance")) {
+    rd.Fail("analysis.receptance",
+            "a cyclic sector needs \"dense\": its stuck modes differ per harmonic (nodal "
+            "diameter)",
+            analysis->get("receptance"));
+  }
   if (!analysis || !analysis->get("receptance")) {
     // No route named: the modal one where it is exact and pays (linear.h), else dense.
     cs.analysis.receptance = ChooseReceptance(cs.model);

@@ -18,18 +18,43 @@ struct Side {
   const AssemblyBody* body = nullptr;
   std::string set;
   std::vector<int64_t> nodes;
+  bool next_sector = false;  // the next sector's copy of the set (cyclic symmetry)
+  RigidTransform place;      // body frame -> this sector's frame (the next sector's placement)
 };
 
 Side SideOf(const Reader& rd, const toml::table& iface, const std::string& where, const char* key,
-            const std::vector<AssemblyBody>& bodies) {
+            const std::vector<AssemblyBody>& bodies, const CyclicFrame* cyclic) {
   const std::string w = where + "." + key;
   const toml::node& sn = rd.Require(iface, where, key);
   if (!sn.is_table()) rd.Fail(w, "expected {body = \"...\", set = \"NODE_SET\"}", &sn);
   const toml::table& t = *sn.as_table();
-  rd.CheckKeys(t, w, {"body", "set"});
+  const bool side_b = std::string(key) == "b";
+  if (side_b) {
+    rd.CheckKeys(t, w, {"body", "set", "sector"});
+  } else {
+    rd.CheckKeys(t, w, {"body", "set"});
+  }
   Side s;
   s.body = &BodyNamed(rd, bodies, rd.String(t, w, "body"), w + ".body", t.get("body"));
   s.set = rd.String(t, w, "set");
+  s.place = s.body->place;
+  if (side_b && t.get("sector")) {
+    const std::string sector = rd.String(t, w, "sector");
+    if (sector != "next" && sector != "this") {
+      rd.Fail(w + ".sector", "expected \"this\" or \"next\" (the next sector of a cyclic model)",
+              t.get("sector"));
+    }
+    s.next_sector = sector == "next";
+    if (s.next_sector && !cyclic) {
+      rd.Fail(w + ".sector", "sector = \"next\" needs a [cyclic] section (sectors, axis)",
+              t.get("sector"));
+    }
+    if (s.next_sector) {
+      // The next sector's copy: this sector's placement, then the sector rotation.
+      s.place.rotation = cyclic->next.rotation * s.body->place.rotation;
+      s.place.translation = cyclic->next.Apply(s.body->place.translation);
+    }
+  }
   const NodeSet* ns = s.body->Set(s.set);
   if (!ns) {
     std::string names;
@@ -67,7 +92,7 @@ bool FaceData(const Side& s, NodalAreaScheme scheme, std::map<int64_t, double>* 
   const NodalFaceData fd = FaceNodalData(s.body->mesh, FacesOnSet(s.body->mesh, s.set), scheme);
   for (size_t i = 0; i < fd.nodes.size(); ++i) {
     (*area)[fd.nodes[i]] = fd.area[i];
-    (*normal)[fd.nodes[i]] = s.body->place.rotation * fd.normal[i];
+    (*normal)[fd.nodes[i]] = s.place.rotation * fd.normal[i];
   }
   return true;
 }
@@ -119,21 +144,29 @@ struct Interface {
   double mu = 0, preload = 0;
   int directions = 1;
   std::string alpha;
+  double phase = 0.0;  // cyclic: the next sector's delay per harmonic [rad]
 };
 
 // The node pairs (equal sets, matched by placed coordinates) and the faces' areas and normals.
 void ReadGeometry(const Reader& rd, const toml::table& t, const std::string& where,
-                  const std::vector<AssemblyBody>& bodies, Interface* f) {
-  f->a = SideOf(rd, t, where, "a", bodies);
-  f->b = SideOf(rd, t, where, "b", bodies);
+                  const std::vector<AssemblyBody>& bodies, const CyclicFrame* cyclic,
+                  Interface* f) {
+  f->a = SideOf(rd, t, where, "a", bodies, cyclic);
+  f->b = SideOf(rd, t, where, "b", bodies, cyclic);
+  if (f->b.next_sector) f->phase = cyclic->phase;
   const Side &a = f->a, &b = f->b;
   const double tol = rd.NumberOr(t, where, "tolerance", 1e-6);
   if (!(tol > 0)) rd.Fail(where + ".tolerance", "expected a value > 0 [m]", t.get("tolerance"));
   try {
-    f->pairs = PairNodesByCoordinates(a.body->mesh, a.nodes, a.body->place, b.body->mesh, b.nodes,
-                                      b.body->place, tol);
+    f->pairs =
+        PairNodesByCoordinates(a.body->mesh, a.nodes, a.place, b.body->mesh, b.nodes, b.place, tol);
   } catch (const std::invalid_argument& e) {
-    rd.Fail(where, e.what(), &t);
+    rd.Fail(where,
+            std::string(e.what()) +
+                (b.next_sector ? " (side b: the next sector's copy, rotated by 2π/N about the "
+                                 "[cyclic] axis)"
+                               : ""),
+            &t);
   }
   if (f->pairs.size() != b.nodes.size()) {
     rd.Fail(where,
@@ -218,6 +251,14 @@ void PushContact(const Interface& f, const NodePair& p, Contact c, Case* cs) {
   cs->contact_interface.push_back(static_cast<int>(cs->interface_names.size()));
 }
 
+// Rᵀ d for the sector rotation R: the next sector's motion along d, read on this sector's copy.
+Eigen::VectorXd BackFromNextSector(const Interface& f, const Eigen::Vector3d& d) {
+  const Eigen::Matrix3d r = f.b.place.rotation * f.b.body->place.rotation.transpose();
+  Eigen::VectorXd out(3);
+  for (int i = 0; i < 3; ++i) out[i] = r.col(i).dot(d);
+  return out;
+}
+
 // One contact per node pair (two with two tangential directions); returns the faces' area.
 double AddContacts(const Interface& f, Case* cs) {
   double area_sum = 0;
@@ -234,6 +275,13 @@ double AddContacts(const Interface& f, Case* cs) {
     const double area =
         f.faces_a ? f.area_a.at(p.node_a) : (f.faces_b ? f.area_b.at(p.node_b) : 1.0);
     area_sum += area;
+    if (f.b.next_sector) {
+      // Side B's DOFs are this sector's copy of the node: the next sector's motion along a
+      // direction d is (Rᵀd) of them, one sector later in the travelling wave.
+      c.normal_b = BackFromNextSector(f, frame.normal);
+      c.tangent_b = BackFromNextSector(f, frame.tangent1);
+      c.phase_b = f.phase;
+    }
     c.kn = f.k.per_area ? f.k.kn * area : f.k.kn;
     c.kt = f.k.per_area ? f.k.kt * area : f.k.kt;
     c.mu = f.mu;
@@ -249,6 +297,7 @@ double AddContacts(const Interface& f, Case* cs) {
       c.name += ".t1";
       c2.name += ".t2";
       c2.tangent = frame.tangent2;
+      if (f.b.next_sector) c2.tangent_b = BackFromNextSector(f, frame.tangent2);
       for (Contact* d : {&c, &c2}) {
         d->kn *= 0.5;
         d->normal_preload *= 0.5;
@@ -278,7 +327,8 @@ void AddAlphaGroups(const Interface& f, std::vector<int>* groups, Case* cs) {
 }  // namespace
 
 void ReadInterfaces(const Reader& rd, const toml::table& root,
-                    const std::vector<AssemblyBody>& bodies, Case* cs, toml::array* resolved) {
+                    const std::vector<AssemblyBody>& bodies, const CyclicFrame* cyclic, Case* cs,
+                    toml::array* resolved) {
   if (!root.get("interfaces")) return;
   const toml::array& arr = rd.Array(root, "", "interfaces");
   // α groups: the contacts read before (explicit [[contacts]]) have one α each.
@@ -298,10 +348,12 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
     for (const std::string& other : cs->interface_names) {
       if (other == f.name) rd.Fail(where + ".name", "duplicate interface name", t.get("name"));
     }
-    ReadGeometry(rd, t, where, bodies, &f);
+    ReadGeometry(rd, t, where, bodies, cyclic, &f);
     // A set paired with itself has no relative displacement; the same two sets paired twice
     // would put every contact in twice (doubled stiffness and friction).
-    const auto side = [](const Side& s) { return s.body->name + "/" + s.set; };
+    const auto side = [](const Side& s) {
+      return s.body->name + "/" + s.set + (s.next_sector ? " (next sector)" : "");
+    };
     if (side(f.a) == side(f.b)) {
       rd.Fail(where, "side a and side b are the same set ('" + side(f.a) + "')", &t);
     }
@@ -327,6 +379,7 @@ void ReadInterfaces(const Reader& rd, const toml::table& root,
                   {"mu", f.mu},
                   {"tangential_directions", static_cast<int64_t>(f.directions)},
                   {"first_contact", static_cast<int64_t>(first)}};
+    if (f.b.next_sector) r.insert("b_sector", "next");
     if (f.faces_a || f.faces_b) r.insert("face_area_m2", area_sum);
     resolved->push_back(std::move(r));
   }

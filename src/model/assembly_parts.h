@@ -50,9 +50,18 @@ const AssemblyBody& BodyNamed(const Reader& rd, const std::vector<AssemblyBody>&
                               const std::string& name, const std::string& where,
                               const toml::node* node);
 
+// [cyclic] of a sector of a bladed disk: where the next sector lies (this one rotated by 2π/N
+// about the axis through the origin) and its phase per harmonic under the engine order.
+struct CyclicFrame {
+  RigidTransform next;  // this sector's frame -> the next sector's placement
+  double phase = 0.0;   // [rad] 2π·EO/N
+};
+
 // [[interfaces]]: contacts between node sets, appended to cs->model.contacts (with α groups).
+// A side b with sector = "next" is the next sector's copy of the set (needs `cyclic`).
 void ReadInterfaces(const Reader& rd, const toml::table& root,
-                    const std::vector<AssemblyBody>& bodies, Case* cs, toml::array* resolved);
+                    const std::vector<AssemblyBody>& bodies, const CyclicFrame* cyclic, Case* cs,
+                    toml::array* resolved);
 
 Eigen::Vector3d Vector3(const Reader& rd, const toml::table& t, const std::string& where,
                         const std::string& key);

@@ -61,7 +61,8 @@ class LumpedCaseParser {
     const std::string schema = rd_.String(root_, "", "schema");
     if (schema != "fricrom-case-1") {
       rd_.Fail("schema",
-               "expected \"fricrom-case-1\" (lumped) or \"fricrom-assembly-1\" (FE), got \"" +
+               "expected \"fricrom-case-1\" (lumped) or \"fricrom-assembly-1\" / "
+               "\"fricrom-assembly-2\" (FE), got \"" +
                    schema + "\"",
                root_.get("schema"));
     }
@@ -346,7 +347,8 @@ Case ParseCase(const std::string& toml_text, const std::string& source_name,
   }
   Case c;
   if (const toml::node* sn = root.get("schema");
-      sn && sn->value<std::string>() == "fricrom-assembly-1") {
+      sn && (sn->value<std::string>() == "fricrom-assembly-1" ||
+             sn->value<std::string>() == "fricrom-assembly-2")) {
     c = detail::ParseAssembly(root, source_name, overrides);
   } else {
     Reader rd(source_name);

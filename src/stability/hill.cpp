@@ -158,7 +158,10 @@ HillResult HillStability(const Eigen::MatrixXd& jacobian, const Eigen::MatrixXd&
 
 HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, double omega,
                          const Eigen::VectorXd& alpha, const HillOptions& options) {
-  RequireNoCyclicContacts(system.model(), "Hill's stability analysis");
+  if (HasCyclicContacts(system.model())) {
+    // A sector's Floquet exponents would judge only perturbations of its own nodal diameters.
+    throw std::domain_error("Hill stability is not computed on a cyclic sector");
+  }
   // A contact stuck over the whole period holds a perturbation with its stick springs in every
   // harmonic, the static one included. The balance's AFT says otherwise for it: it prescribes the
   // static tangential force by α (∂R/∂q̂0 lacks kt), and where the AFT's first pass slipped
