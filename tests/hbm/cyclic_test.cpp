@@ -7,10 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "fricrom/bounds.h"
 #include "fricrom/condensed_system.h"
 #include "fricrom/frf.h"
 #include "fricrom/hbm_system.h"
@@ -146,6 +149,37 @@ TEST(Cyclic, CondensedSectorReproducesTheFullSectorBalance) {
   HbmOptions modal{1, 96};
   modal.receptance = ReceptanceMethod::kModal;
   EXPECT_THROW(CondensedSystem(CyclicSector(6, 1), modal), std::invalid_argument);
+}
+
+// The sector's bounds are bounds over the travelling-wave states, a subset of the ring's states
+// over α per sector: the ring's bounds contain them (the ring's search also starts from the
+// sector's optima carried to the ring, so that the check does not hang on its multi-start).
+TEST(Cyclic, SectorBoundsLieInsideTheRingBoundsOverAlphaPerSector) {
+  const Model sector = CyclicSector(6, 1);
+  const Model ring = ExpandCyclicRing(sector);
+  const HbmOptions options{1, 96};
+  HbmSystem cyc(sector, options), full(ring, options);
+  const double f = 108.0, w = kTwoPi * f;  // past the peak: α moves the response there
+  const BoundsResult s = ComputeBounds(cyc, f, BoundsOptions{});
+  ASSERT_TRUE(s.IsUsable()) << s.BriefReport();
+  EXPECT_LT(s.min.amplitude, 0.99 * s.max.amplitude) << "the check needs bounds that differ";
+  BoundsOptions ring_options;
+  ring_options.alpha_seeds = DefaultAlphaSeeds(static_cast<int>(ring.contacts.size()));
+  for (const BoundSolution* b : {&s.min, &s.max}) {
+    ring_options.alpha_seeds.push_back(
+        RingContactAlpha(sector, cyc.ContactHistories(b->x, w, b->alpha), b->alpha));
+  }
+  const BoundsResult r = ComputeBounds(full, f, ring_options);
+  ASSERT_TRUE(r.IsUsable()) << r.BriefReport();
+  EXPECT_LE(r.min.amplitude, s.min.amplitude * (1 + 1e-8));
+  EXPECT_GE(r.max.amplitude, s.max.amplitude * (1 - 1e-8));
+  RecordProperty("sector_bounds_m",
+                 std::to_string(s.min.amplitude) + " " + std::to_string(s.max.amplitude));
+  RecordProperty("ring_bounds_m",
+                 std::to_string(r.min.amplitude) + " " + std::to_string(r.max.amplitude));
+  std::cout << "sector [" << s.min.amplitude << ", " << s.max.amplitude << "] m, ring over α per "
+            << "sector [" << r.min.amplitude << ", " << r.max.amplitude << "] m at " << f
+            << " Hz\n";
 }
 
 // Each nodal diameter's frequencies, counted twice for 0 < nd < N/2 (the two travelling
