@@ -78,8 +78,12 @@ def run_cell(args, fam, alpha, value, freq):
 
 
 def draw(cells, fams, values, freqs, param, title, out):
-    fig, axes = plt.subplots(1, len(fams), figsize=(3.4 * len(fams), 1.2 + 0.55 * len(values)),
+    # Cells wide enough for their number; sub-second solves in milliseconds (shorter labels).
+    width = max(3.4, 0.42 * len(freqs) + 0.8)
+    fig, axes = plt.subplots(1, len(fams), figsize=(width * len(fams), 1.2 + 0.55 * len(values)),
                              squeeze=False, sharey=True)
+    in_ms = max(c["wall_s"] for c in cells) < 1.0
+    scale, unit = (1e3, "milliseconds") if in_ms else (1.0, "seconds")
     colour = {"stable": "#4caf50", "unstable": "#ff9800", "unknown": "#b0b0b0", "failed": "#e53935"}
     for ax, fam in zip(axes[0], fams):
         for i, v in enumerate(values):
@@ -90,8 +94,8 @@ def draw(cells, fams, values, freqs, param, title, out):
                         "unknown" if c["stable"] is None else
                         "stable" if c["stable"] else "unstable")
                 ax.add_patch(plt.Rectangle((j, i), 1, 1, color=colour[kind], ec="white"))
-                ax.text(j + 0.5, i + 0.5, f"{c['wall_s']:.2g}", ha="center", va="center",
-                        fontsize=7)
+                ax.text(j + 0.5, i + 0.5, f"{scale * c['wall_s']:.2g}", ha="center",
+                        va="center", fontsize=7)
         ax.set_xlim(0, len(freqs))
         ax.set_ylim(0, len(values))
         ax.set_xticks(np.arange(len(freqs)) + 0.5)
@@ -106,7 +110,7 @@ def draw(cells, fams, values, freqs, param, title, out):
                          "converged, Hill-unstable (approximate at stick-slip)",
                          "converged, stability n/a", "failed"],
                loc="lower center", ncol=4, fontsize=8)
-    fig.suptitle(title + " (number: wall seconds per solve)", fontsize=10)
+    fig.suptitle(title + f" (number: wall {unit} per solve)", fontsize=10)
     fig.tight_layout(rect=(0, 0.1, 1, 0.93))
     common.save_figure(fig, out)
     plt.close(fig)
