@@ -155,8 +155,16 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
                                             ReceptanceMethod method) {
   std::vector<int> dofs = kind == LinearSystemKind::kFree ? model.free_dofs : AllDofs(model);
   Eigen::MatrixXd k = model.stiffness;
-  if (kind == LinearSystemKind::kStick) {
-    RequireNoCyclicContacts(model, "the full-stick linear response");
+  // A cyclic sector's stuck contacts couple it to the next sector at harmonic 1's phase: the
+  // Hermitian stick stiffness X + iY of the real block form [[X, Y], [−Y, X]].
+  Eigen::MatrixXd k_imag;
+  const bool cyclic = kind == LinearSystemKind::kStick && HasCyclicContacts(model);
+  if (cyclic) {
+    const Eigen::MatrixXd ks1 = ContactStickStiffness(model, 1);
+    const int nd = model.num_dofs();
+    k += ks1.topLeftCorner(nd, nd);
+    k_imag = ks1.topRightCorner(nd, nd);
+  } else if (kind == LinearSystemKind::kStick) {
     k += ContactStickStiffness(model);
   }
   int response = -1;
@@ -174,13 +182,16 @@ std::vector<double> LinearResponseAmplitude(const Model& model, LinearSystemKind
     if (l.harmonic != 1) continue;
     for (int i = 0; i < n; ++i) f[i] += std::complex<double>(l.cos[dofs[i]], -l.sin[dofs[i]]);
   }
-  if (method == ReceptanceMethod::kModal) return ModalAmplitude(ks, ms, cs, f, response, freqs_hz);
+  if (method == ReceptanceMethod::kModal && !cyclic) {
+    return ModalAmplitude(ks, ms, cs, f, response, freqs_hz);
+  }
   std::vector<double> amp;
   amp.reserve(freqs_hz.size());
   for (double fhz : freqs_hz) {
     const double w = RadPerS(fhz);
     Eigen::MatrixXcd z = (ks - w * w * ms).cast<std::complex<double>>();
     z += std::complex<double>(0.0, w) * cs.cast<std::complex<double>>();
+    if (cyclic) z.imag() += k_imag(dofs, dofs);
     const Eigen::VectorXcd q = z.partialPivLu().solve(f);
     amp.push_back(std::abs(q[response]));
   }

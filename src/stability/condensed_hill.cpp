@@ -62,7 +62,8 @@ CondensedHill::CondensedHill(const CondensedSystem& system)
     : system_(system), modal_(std::make_unique<Modal>()) {
   if (HasCyclicContacts(system.model())) {
     // A sector's Floquet exponents would judge only perturbations of its own nodal diameters.
-    throw std::domain_error("Hill stability is not computed on a cyclic sector");
+    throw std::domain_error(
+        "a cyclic sector's Floquet exponents would judge its own nodal diameters only");
   }
   const Model& model = system.model();
   modal_->k_s = model.stiffness + ContactStickStiffness(model);

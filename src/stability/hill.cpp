@@ -160,7 +160,8 @@ HillResult HillStability(const HbmSystem& system, const Eigen::VectorXd& x, doub
                          const Eigen::VectorXd& alpha, const HillOptions& options) {
   if (HasCyclicContacts(system.model())) {
     // A sector's Floquet exponents would judge only perturbations of its own nodal diameters.
-    throw std::domain_error("Hill stability is not computed on a cyclic sector");
+    throw std::domain_error(
+        "a cyclic sector's Floquet exponents would judge its own nodal diameters only");
   }
   // A contact stuck over the whole period holds a perturbation with its stick springs in every
   // harmonic, the static one included. The balance's AFT says otherwise for it: it prescribes the
