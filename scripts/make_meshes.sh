@@ -3,13 +3,16 @@
 # scripts/fix_gmsh_inp.py (volume elements + node sets only) -> CalculiX stiffness/mass matrices
 # (*FREQUENCY, SOLVER=MATRIXSTORAGE). See meshes/README.md.
 #
-# usage: scripts/make_meshes.sh [coarse|fine|all] [--out DIR] [--modes N]
+# usage: scripts/make_meshes.sh [coarse|fine|all|disk24] [--out DIR] [--modes N]
 #   coarse (default)  meshes/blade_sector/coarse/, meshes/damper/coarse/  (committed)
 #                     with --out DIR: DIR/blade_sector/, DIR/damper/
 #   fine              build/meshes/blade_sector_fine/, build/meshes/damper_fine/  (not committed)
 #                     and the fine FE cascade case build/meshes/cascade3_fine.toml (51 node pairs
 #                     per face); with --out DIR: DIR/blade_sector_fine/, DIR/damper_fine/, ...
-#   all               both
+#   all               both (coarse and fine)
+#   disk24            the coarse blade sector and damper bent onto a bladed disk of 24 sectors
+#                     (scripts/bend_to_disk.py; cyclic case meshes/disk24/coarse.toml):
+#                     meshes/disk24/coarse/ (committed); with --out DIR: DIR/disk24/
 #   --modes N         also run a CalculiX eigenvalue analysis (in a temporary folder, nothing kept)
 #                     and print the lowest N natural frequencies of each model
 #   --set NAME=VALUE  a geometry parameter of both .geo files (gmsh -setnumber), e.g. cham_deg=40
@@ -36,7 +39,7 @@ modes=0
 geo_set=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    coarse|fine|all) variant="$1" ;;
+    coarse|fine|all|disk24) variant="$1" ;;
     --out) [ $# -ge 2 ] || die "--out needs a directory"; out_dir="$2"; shift ;;
     --out=*) out_dir="${1#--out=}" ;;
     --modes) [ $# -ge 2 ] || die "--modes needs a number"; modes="$2"; shift ;;
@@ -59,6 +62,7 @@ if [ -x /usr/bin/python3 ]; then PY=/usr/bin/python3; else PY="$(command -v pyth
 [ -n "$CCX" ] || die "ccx not found (Debian package 'calculix-ccx': apt-get install calculix-ccx)"
 [ -n "$PY" ] || die "python3 not found (Debian package 'python3': apt-get install python3)"
 FIX="$ROOT_DIR/scripts/fix_gmsh_inp.py"
+BEND="$ROOT_DIR/scripts/bend_to_disk.py"
 gmsh_version="$("$GMSH" --version 2>&1 | tail -n 1)"
 [ "$gmsh_version" = "4.8.4" ] || echo "make_meshes.sh: warning: gmsh $gmsh_version (the committed meshes were made with 4.8.4; files will differ)" >&2
 
@@ -73,6 +77,10 @@ trap 'rm -rf "$work"' EXIT
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", b - a }'; }
 size_of() { du -h "$1" | cut -f1; }
+
+# Set by the disk variants: bend_to_disk.py options (--sectors N --pitch P); run_model then bends
+# the cleaned mesh onto the disk before CalculiX runs.
+bend_args=()
 
 # run_model JOB VARIANT_LABEL GEO DECK OUT ELSET REQUIRE SINGLE GMSH_SETTINGS...
 run_model() {
@@ -99,6 +107,10 @@ run_model() {
   "$PY" "$FIX" clean "$tmp/raw.inp" "$tmp/ccx/${job}_mesh.inp" --elset "$elset" \
       --require "$require" ${single:+--single "$single"} --title "$title" \
       --summary "$tmp/summary" | sed 's/^/  /'
+  if [ ${#bend_args[@]} -gt 0 ]; then
+    mv "$tmp/ccx/${job}_mesh.inp" "$tmp/flat_mesh.inp"
+    "$PY" "$BEND" mesh "$tmp/flat_mesh.inp" "$tmp/ccx/${job}_mesh.inp" "${bend_args[@]}"
+  fi
   local nodes constrained=0
   nodes="$(sed -n 's/^nodes=//p' "$tmp/summary")"
   if grep -q '^\*BOUNDARY' "$deck"; then
@@ -165,6 +177,13 @@ make_variant() {
       damper_out="${out_dir:-$ROOT_DIR/meshes}/damper"
       [ -n "$out_dir" ] || { blade_out="$blade_out/coarse"; damper_out="$damper_out/coarse"; }
       ;;
+    disk24)
+      # The coarse meshes (same gmsh settings as coarse), bent onto a disk of 24 sectors.
+      blade_args=(-setnumber lc 0.009 -setnumber lc_blade 0.009 -setnumber n_contact_x 4 -setnumber n_contact_s 1)
+      damper_args=(-setnumber lc 0.004 -setnumber n_contact_x 4 -setnumber n_contact_s 1)
+      if [ -n "$out_dir" ]; then blade_out="$out_dir/disk24"; else blade_out="$ROOT_DIR/meshes/disk24/coarse"; fi
+      damper_out="$blade_out"
+      ;;
     fine)
       blade_args=(-setnumber lc 0.0014 -setnumber lc_blade 0.0014 -setnumber n_contact_x 8 -setnumber n_contact_s 1)
       damper_args=(-setnumber lc 0.0014 -setnumber n_contact_x 8 -setnumber n_contact_s 1)
@@ -174,6 +193,10 @@ make_variant() {
   esac
   blade_args+=("${geo_set[@]}")
   damper_args+=("${geo_set[@]}")
+  if [ "$label" = disk24 ]; then
+    make_disk "$label" 24 "$blade_out"
+    return 0
+  fi
   run_model blade_sector "$label" "$BLADE_GEO" "$BLADE_DECK" "$blade_out" BLADE \
       ROOT,CONTACT_LEFT,CONTACT_RIGHT EXCITATION,RESPONSE "${blade_args[@]}"
   run_model damper "$label" "$DAMPER_GEO" "$DAMPER_DECK" "$damper_out" DAMPER \
@@ -186,6 +209,29 @@ make_variant() {
     || die "blade CONTACT_LEFT (next sector) and damper CONTACT_RIGHT nodes do not coincide"
   [ "$label" = fine ] && write_fine_cascade "$blade_out" "$damper_out"
   return 0
+}
+
+# A cyclic sector of a bladed disk of N sectors (make_variant's blade_args / damper_args, one output
+# folder): the flat meshes, each bent by bend_to_disk.py before CalculiX (the root stays clamped:
+# the disk is rigid), the damper in its flat cascade position (between this blade and the next);
+# then the contact nodes are checked (the next sector's blade = this one rotated by +2 pi / N about
+# [-1, 0, 0] through the origin) and the damper's centroid (theta_d, radius of the case file) printed.
+make_disk() {
+  local label="$1" sectors="$2" out="$3"
+  bend_args=(--sectors "$sectors" --pitch "$PITCH")
+  "$PY" "$BEND" deck "$BLADE_DECK" "$work/blade_sector_deck.$label.inp" "${bend_args[@]}"
+  "$PY" "$BEND" deck "$DAMPER_DECK" "$work/damper_deck.$label.inp" "${bend_args[@]}"
+  run_model blade_sector "$label" "$BLADE_GEO" "$work/blade_sector_deck.$label.inp" "$out" BLADE \
+      ROOT,CONTACT_LEFT,CONTACT_RIGHT EXCITATION,RESPONSE "${blade_args[@]}"
+  run_model damper "$label" "$DAMPER_GEO" "$work/damper_deck.$label.inp" "$out" DAMPER \
+      CONTACT_LEFT,CONTACT_RIGHT "" "${damper_args[@]}"
+  bend_args=()
+  echo "== contact node pairs ($label)"
+  "$PY" "$BEND" check "$out/blade_sector_mesh.inp" "$out/damper_mesh.inp" --sectors "$sectors" \
+      --axis -1,0,0 \
+    || die "the bent blade and damper contact nodes do not coincide"
+  echo "== damper centroid ($label; the case's theta_d and radius)"
+  "$PY" "$BEND" centroid "$out/damper"
 }
 
 # The fine FE cascade (51 node pairs per face, 204 in all): meshes/cascade3/coarse.toml with the
@@ -211,5 +257,6 @@ case "$variant" in
   coarse) make_variant coarse ;;
   fine) make_variant fine ;;
   all) make_variant coarse; make_variant fine ;;
+  disk24) make_variant disk24 ;;
 esac
 echo "== done in $(elapsed "$t_start" "$(now)") s"

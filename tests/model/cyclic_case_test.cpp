@@ -5,10 +5,17 @@
 
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "app/cli_test_util.h"
 #include "fricrom/case_file.h"
+#include "fricrom/condensed_system.h"
+#include "fricrom/cyclic.h"
+#include "fricrom/frf.h"
+#include "fricrom/hbm_system.h"
+#include "fricrom/units.h"
 
 namespace fricrom {
 namespace {
@@ -83,6 +90,72 @@ TEST(CyclicCase, CyclicSectionWithoutAnInterfaceToTheNextSectorIsAnError) {
   const std::string e =
       LoadError({kSchema2, Cyclic("sectors = 24\nengine_order = 2\naxis = [-1, 0, 0]")});
   EXPECT_NE(e.find("no interface couples to the next sector"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace fricrom
+
+namespace fricrom {
+namespace {
+
+// The disk24 sector coupled as a ring of 6 at EO 1: its cyclic contacts keep the disk's
+// geometry (the 15° rotation of their directions) and take the phase 2π/6 — a ring small enough
+// to hold explicitly. Solved as a sector on the condensed balance, its solution spread over the
+// explicit ring of 6 sectors solves the ring's full balance.
+Case DiskSectorOfSix() {
+  Case c = LoadCase((fs::path(FRICROM_SOURCE_DIR) / "meshes/disk24/coarse.toml").string());
+  c.model.cyclic.sectors = 6;
+  c.model.cyclic.engine_order = 1;
+  for (Contact& ct : c.model.contacts) {
+    if (ct.cyclic()) ct.phase_b = c.model.cyclic.phase();
+  }
+  return c;
+}
+
+TEST(CyclicCase, FeSectorSolutionsSolveTheExplicitRingOfSixAtHarmonicsOneAndThree) {
+  const Case c = DiskSectorOfSix();
+  ASSERT_EQ(c.model.cyclic.sectors, 6);
+  const Model ring = ExpandCyclicRing(c.model);
+  const int n = c.model.num_dofs(), ns = 6;
+  for (const int harmonics : {1, 3}) {
+    HbmOptions o{harmonics, 96};
+    o.receptance = ReceptanceMethod::kDense;
+    const CondensedSystem sector(c.model, o);
+    const HbmSystem full_ring(ring, o);
+    const Eigen::VectorXd alpha = Eigen::VectorXd::LinSpaced(c.model.num_alpha(), -0.8, 0.8);
+    const Eigen::VectorXd contact_alpha = c.model.ContactAlpha(alpha);
+    int slipping = 0;
+    for (const double f : {1100.0, 1124.0}) {
+      const double w = kTwoPi * f;
+      const FrfPoint s =
+          SolveAtFrequency(sector, contact_alpha, f, Eigen::VectorXd(), FrfOptions{});
+      ASSERT_EQ(s.status, SolverStatus::kConverged) << harmonics << " " << f;
+      const Eigen::VectorXd x = sector.Recover(s.x, w, contact_alpha);
+      // Sector k is sector 0 delayed by k·φ, harmonic by harmonic.
+      const int nh = 2 * harmonics + 1;
+      Eigen::VectorXd xr(nh * n * ns);
+      for (int k = 0; k < ns; ++k) {
+        for (int d = 0; d < n; ++d) {
+          xr[k * n + d] = x[d];
+          for (int h = 1; h <= harmonics; ++h) {
+            double a = x[(2 * h - 1) * n + d], b = x[2 * h * n + d];
+            RotateHarmonic(h * k * c.model.cyclic.phase(), &a, &b);
+            xr[(2 * h - 1) * n * ns + k * n + d] = a;
+            xr[2 * h * n * ns + k * n + d] = b;
+          }
+        }
+      }
+      const Eigen::VectorXd ring_alpha =
+          RingContactAlpha(c.model, sector.ContactHistories(s.x, w, contact_alpha), contact_alpha);
+      HbmEvaluation e;
+      full_ring.Evaluate(xr, w, ring_alpha, HbmRequest{}, &e);
+      EXPECT_LE(e.residual.norm(), 1e-8 * full_ring.ResidualScale()) << harmonics << " " << f;
+      for (const ContactRegime r : sector.ContactRegimes(s.x, w, contact_alpha)) {
+        slipping += r != ContactRegime::kFullStick;
+      }
+    }
+    EXPECT_GT(slipping, 0) << "the check needs contacts that slip";
+  }
 }
 
 }  // namespace
