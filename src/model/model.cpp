@@ -207,7 +207,9 @@ Eigen::MatrixXd ContactStickStiffness(const Model& model) {
         if (ai >= 0 && aj >= 0) k(ai, aj) += aa(i, j);
         if (bi >= 0 && bj >= 0) k(bi, bj) += bb(i, j);
         if (ai >= 0 && bj >= 0) k(ai, bj) -= ab(i, j);
-        if (bi >= 0 && aj >= 0) k(bi, aj) -= ab(j, i);
+        // ab(j, i) couples B's direction i with A's j; an ordinary contact keeps local(i, j),
+        // equal up to the rounding of the outer product, so its matrix stays the same to the bit.
+        if (bi >= 0 && aj >= 0) k(bi, aj) -= c.cyclic() ? ab(j, i) : ab(i, j);
       }
     }
   }
