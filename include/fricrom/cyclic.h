@@ -34,6 +34,12 @@ Model ExpandCyclicRing(const Model& sector, bool alpha_per_sector = false);
 Eigen::VectorXd RingContactAlpha(const Model& sector, const std::vector<ContactHistory>& histories,
                                  const Eigen::VectorXd& contact_alpha);
 
+// The explicit ring's harmonic coefficients (ExpandCyclicRing's DOF order, harmonic-major as the
+// balance's unknowns) of a sector solution x (the sector's DOFs at `harmonics`): sector s is
+// sector 0 delayed by s·φ, harmonic h by h·s·φ. Throws std::invalid_argument unless x has
+// (2·harmonics + 1)·num_dofs entries.
+Eigen::VectorXd SpreadOverRing(const Model& sector, const Eigen::VectorXd& x, int harmonics);
+
 // Natural frequencies [Hz] of the sector's linear part at nodal diameter nd (0..N/2): the
 // cyclic contacts' stick springs coupled through the phase 2π·nd/N (stick = true), or without
 // any contact (stick = false: then the sectors are uncoupled and every nodal diameter has the

@@ -442,10 +442,15 @@ BoundsResult RefineLevelsAtHarmonics(const HarmonicBalance& system, const Bounds
       // Lost at H with nothing held: the whole rung (with its own fallback, the search at H).
       MergeBounds(RefineBoundsAtHarmonics(view, from, options), options.objective, &r);
     }
+    // Each level's own sample check at H: a coarse level's few parameters are where samples
+    // find what the H = 1 optima miss (disk24 at its peak: a uniform α per interface).
+    CheckRefinedBounds(view, low.freq_hz, options, &r);
     if (l + 1 == nl) FoldSeedsAtH(view, low.freq_hz, options, &r);
     record.min = r.min;
     record.max = r.max;
     record.optimizer_runs += r.optimizer_runs;
+    record.samples_checked += r.samples_checked;
+    record.improved_by_samples += r.improved_by_samples;
     record.refine_s = Since(tl);
     record.wall_s += record.refine_s;
     bounds_detail::AddSearchCounts(r, true, &counts);
@@ -462,6 +467,9 @@ BoundsResult RefineLevelsAtHarmonics(const HarmonicBalance& system, const Bounds
   result.min_failures += counts.min_failures;
   result.max_failures += counts.max_failures;
   result.refinement_fallbacks = counts.refinement_fallbacks;
+  result.samples_checked += counts.samples_checked;
+  result.samples_failed += counts.samples_failed;
+  result.improved_by_samples += counts.improved_by_samples;
   for (BoundSolution* b : {&result.min, &result.max}) {
     if (b->IsUsable()) continue;  // a failed bound is never a number
     b->amplitude = b->loss_factor = std::numeric_limits<double>::quiet_NaN();

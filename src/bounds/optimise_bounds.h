@@ -34,4 +34,21 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
                              const std::vector<Eigen::VectorXd>& known_x = {},
                              const std::vector<int>& directions = {});
 
+// The sample check of *result at `system`'s own H (BoundsOptions::check_samples random α with
+// sample_seed): a sample beyond a bound restarts the optimiser from it, and the bound becomes the
+// best of the bound, the restart and the sample. seeds_before numbers the restart's seeds after
+// the search's own. from_sample_x: the restart starts on the sample's solution (else cold at its
+// α, as the search at H = 1 does). Does nothing without α or with check_samples = 0.
+void CheckBoundsBySamples(const HarmonicBalance& system, double freq_hz,
+                          const BoundsOptions& options, int seeds_before, bool from_sample_x,
+                          BoundsResult* result);
+
+// The harmonic ladder's sample check at the system's H, after the refinement of the H = 1 optima
+// (both bounds usable; else nothing): the H = 1 optima are local at H where α moves the response
+// by less than the truncation of the harmonics does (disk24 at its peak: the H = 1 maximum
+// 3e-5 below the one at H = 3, a uniform α per interface that no refinement run reached). The
+// restarts take the refinement's settings and start on the samples' solutions.
+void CheckRefinedBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+                        BoundsResult* result);
+
 }  // namespace fricrom

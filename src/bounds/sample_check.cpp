@@ -134,15 +134,27 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
                              const std::vector<Eigen::VectorXd>& known_x,
                              const std::vector<int>& directions) {
   BoundsResult result = OptimiseBounds(system, freq_hz, options, seeds, known_x, directions);
-  if (system.num_alpha() == 0 || options.check_samples == 0) return result;
+  CheckBoundsBySamples(system, freq_hz, options, static_cast<int>(seeds.size()), false, &result);
+  return result;
+}
 
+void CheckBoundsBySamples(const HarmonicBalance& system, double freq_hz,
+                          const BoundsOptions& options, int seeds_before, bool from_sample_x,
+                          BoundsResult* out) {
+  if (system.num_alpha() == 0 || options.check_samples == 0) return;
+  BoundsResult& result = *out;
   const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);
-  if (!c.have_low && !c.have_high) return result;
+  if (!c.have_low && !c.have_high) return;
   const double omega = RadPerS(freq_hz);
   std::vector<Eigen::VectorXd> restart;
   if (c.have_low) restart.push_back(c.alpha_low);
   if (c.have_high) restart.push_back(c.alpha_high);
-  const BoundsResult again = OptimiseBounds(system, freq_hz, options, restart);
+  std::vector<Eigen::VectorXd> restart_x;
+  if (from_sample_x) {
+    if (c.have_low) restart_x.push_back(c.low.x);
+    if (c.have_high) restart_x.push_back(c.high.x);
+  }
+  const BoundsResult again = OptimiseBounds(system, freq_hz, options, restart, restart_x);
   bounds_detail::AddSearchCounts(again, false, &result);
   // Each bound: the best of the first optimisation, the restart and the sample itself.
   auto improve = [&](bool is_max, bool have_sample, const FrfPoint& sample,
@@ -157,7 +169,7 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
     if (restarted.IsUsable() && sign * bounds_detail::RankValue(restarted, options.objective) >=
                                     sign * bounds_detail::RankValue(best, options.objective)) {
       best = restarted;
-      best.seed = static_cast<int>(seeds.size()) + restarted.seed;  // restart seeds come last
+      best.seed = seeds_before + restarted.seed;  // restart seeds come last
       best.message += " (optimiser restarted from an alpha sample beyond the first bound)";
     }
     bound = std::move(best);
@@ -165,7 +177,28 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
   };
   improve(false, c.have_low, c.low, c.alpha_low, again.min);
   improve(true, c.have_high, c.high, c.alpha_high, again.max);
-  return result;
+}
+
+void CheckRefinedBounds(const HarmonicBalance& system, double freq_hz, const BoundsOptions& options,
+                        BoundsResult* result) {
+  if (!result->min.IsUsable() || !result->max.IsUsable()) return;
+  // The refinement's settings (RefineBoundsAtHarmonics) for the restarts, and other α than the
+  // check at H = 1 solved (its samples lay inside the bounds there).
+  BoundsOptions at_h = options;
+  at_h.search_harmonics = 0;
+  at_h.line_search_memory = 1;
+  at_h.stationary_change = options.refinement_stationary_change;
+  at_h.sample_seed = options.sample_seed + 2;
+  if (options.negligible_minimum > 0.0) {
+    at_h.minimum_stop_m = options.negligible_minimum * result->max.amplitude;
+  }
+  at_h.progress = nullptr;
+  if (options.progress) {
+    at_h.progress = [&options](const std::string& stage, int done, int total) {
+      options.progress(stage + " at H", done, total);
+    };
+  }
+  CheckBoundsBySamples(system, freq_hz, at_h, 0, true, result);
 }
 
 namespace {
@@ -265,6 +298,7 @@ BoundsResult RefineBoundsAtHarmonics(const HarmonicBalance& system, const Bounds
   result.samples_checked = low.samples_checked;
   result.samples_failed = low.samples_failed;
   result.improved_by_samples = low.improved_by_samples;
+  CheckRefinedBounds(system, low.freq_hz, options, &result);
   if (!result.min.IsUsable() || !result.max.IsUsable()) {
     // Newton or the runs at H failed from the H = 1 optimum: the full search at H, merged, so
     // that no bound is lost to the ladder.

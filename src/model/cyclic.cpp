@@ -110,6 +110,27 @@ Eigen::VectorXd RingContactAlpha(const Model& sector, const std::vector<ContactH
   return out;
 }
 
+Eigen::VectorXd SpreadOverRing(const Model& sector, const Eigen::VectorXd& x, int harmonics) {
+  const int n = sector.num_dofs(), ns = sector.cyclic.sectors, nh = 2 * harmonics + 1;
+  if (harmonics < 1 || x.size() != static_cast<Eigen::Index>(nh) * n) {
+    throw std::invalid_argument("SpreadOverRing: x must hold (2H + 1) x " + std::to_string(n) +
+                                " sector coefficients, got " + std::to_string(x.size()));
+  }
+  Eigen::VectorXd ring(static_cast<Eigen::Index>(nh) * n * ns);
+  for (int s = 0; s < ns; ++s) {
+    for (int d = 0; d < n; ++d) {
+      ring[s * n + d] = x[d];
+      for (int h = 1; h <= harmonics; ++h) {
+        double a = x[(2 * h - 1) * n + d], b = x[2 * h * n + d];
+        RotateHarmonic(h * s * sector.cyclic.phase(), &a, &b);
+        ring[(2 * h - 1) * n * ns + s * n + d] = a;
+        ring[2 * h * n * ns + s * n + d] = b;
+      }
+    }
+  }
+  return ring;
+}
+
 Eigen::VectorXd CyclicNaturalFrequencies(const Model& sector, int nodal_diameter, bool stick) {
   RequireCyclic(sector, "CyclicNaturalFrequencies");
   if (nodal_diameter < 0 || nodal_diameter > sector.cyclic.sectors / 2) {

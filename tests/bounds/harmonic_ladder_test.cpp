@@ -71,9 +71,9 @@ TEST_P(Ladder, RefinedBoundsMatchTheDirectSearchAtH3) {
   EXPECT_NEAR(l.max.amplitude, d.max.amplitude, 5e-3 * d.max.amplitude) << l.BriefReport();
   EXPECT_NEAR(l.robustness(), d.robustness(), 1e-2 * d.robustness());
   // ... and the seeds were searched at H = 1: the counts are the H = 1 search's plus the
-  // refinement's runs.
+  // refinement's runs, the samples the H = 1 check's plus the check at H.
   EXPECT_GT(l.seeds_tried, h1.seeds_tried);  // the H = 1 seeds and the refinement's starts
-  EXPECT_EQ(l.samples_checked, h1.samples_checked);
+  EXPECT_EQ(l.samples_checked, h1.samples_checked + ladder.check_samples);
 }
 
 INSTANTIATE_TEST_SUITE_P(StickSlipFrequencies, Ladder, ::testing::Values(264.0, 266.0, 268.0));
@@ -90,11 +90,15 @@ TEST(Ladder, ProgressShowsTheSearchAndThenTheRefinement) {
   ASSERT_TRUE(ComputeBounds(BaselineAt(3), 266.0, o).IsUsable());
   ASSERT_GE(stages.size(), 3u);
   EXPECT_EQ(stages.front(), "seeds");
-  EXPECT_EQ(stages[stages.size() - 2], "harmonic refinement");
+  // The refinement's stage opens (0 of 1), its sample check at H runs, and it closes (1 of 1).
+  const auto open = std::find(stages.begin(), stages.end(), "harmonic refinement");
+  ASSERT_NE(open, stages.end());
+  EXPECT_EQ(counts[open - stages.begin()], std::make_pair(0, 1));
+  EXPECT_EQ(stages[stages.size() - 2], "samples at H");
   EXPECT_EQ(stages.back(), "harmonic refinement");
-  EXPECT_EQ(counts[counts.size() - 2], std::make_pair(0, 1));
   EXPECT_EQ(counts.back(), std::make_pair(1, 1));
-  EXPECT_EQ(std::count(stages.begin(), stages.end(), "samples"), o.check_samples);
+  EXPECT_EQ(std::count(stages.begin(), open, "samples"), o.check_samples);
+  EXPECT_EQ(std::count(open, stages.end(), "samples at H"), o.check_samples);
 }
 
 // The refinement of the minimum at H stops once the response falls to negligible_minimum times

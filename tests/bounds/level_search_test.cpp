@@ -182,5 +182,31 @@ TEST(LevelSearch, BoundIsNeverWorseThanItsSeedAtTheReportedHarmonics) {
   EXPECT_GE(b.max.amplitude, at_seed.amplitude * (1 - 1e-9));
 }
 
+// The bounds at the harmonics they report contain the fixed-α solves there, also where α moves
+// the response by less than the truncation of the harmonics does: disk24 at its EO 2 peak, where
+// the H = 1 maximum (α = 0.5) is a stationary point at H = 3 but not its maximum, which lies at a
+// uniform α per interface and (t1, t2) (the search at H = 3 itself: dL (-0.300, 0.136),
+// dR (-0.701, -0.905)). The ladder's sample check at H finds it.
+TEST(LevelSearch, LadderBoundsContainAnInterfacePatternAtTheDiskPeak) {
+  if (!FullFeTests()) GTEST_SKIP() << "FRICROM_TEST_FE_LADDER=0";
+  const Case disk = LoadCase(testing::kMeshes + "disk24/coarse.toml");
+  const auto system =
+      MakeBalance(disk.model, HbmOptions{3, 96, ReceptanceMethod::kDense}, BalanceKind::kCondensed);
+  const std::vector<AlphaLevel> levels = AlphaLevelsOf(disk);
+  ASSERT_EQ(levels.front().num_parameters(), 4);
+  const Eigen::VectorXd pattern =
+      levels.front().FineAlpha((Eigen::VectorXd(4) << -0.300, 0.136, -0.701, -0.905).finished());
+  BoundsOptions o;
+  o.search_harmonics = 1;
+  LevelSearchOptions ls;
+  ls.levels = levels;
+  const BoundsResult b = ComputeLevelBounds(*system, 1120.0, o, ls);
+  const FrfPoint at = SolveAtFrequency(*system, pattern, 1120.0, Eigen::VectorXd(), FrfOptions{});
+  ASSERT_EQ(at.status, SolverStatus::kConverged);
+  ASSERT_TRUE(b.IsUsable()) << b.BriefReport();
+  EXPECT_GE(b.max.amplitude, at.amplitude * (1 - 1e-9)) << b.BriefReport();
+  EXPECT_LE(b.min.amplitude, at.amplitude * (1 + 1e-9)) << b.BriefReport();
+}
+
 }  // namespace
 }  // namespace fricrom

@@ -66,24 +66,6 @@ Model CyclicSector(int sectors, int engine_order) {
   return m;
 }
 
-// The ring solution the sector solution stands for: sector s is sector 0 delayed by s·φ.
-Eigen::VectorXd RingOfSector(const Model& sector, const Eigen::VectorXd& x, int harmonics) {
-  const int n = sector.num_dofs(), ns = sector.cyclic.sectors, nh = 2 * harmonics + 1;
-  Eigen::VectorXd ring(nh * n * ns);
-  for (int s = 0; s < ns; ++s) {
-    for (int d = 0; d < n; ++d) {
-      ring[s * n + d] = x[d];
-      for (int h = 1; h <= harmonics; ++h) {
-        double a = x[(2 * h - 1) * n + d], b = x[2 * h * n + d];
-        RotateHarmonic(h * s * sector.cyclic.phase(), &a, &b);
-        ring[(2 * h - 1) * n * ns + s * n + d] = a;
-        ring[2 * h * n * ns + s * n + d] = b;
-      }
-    }
-  }
-  return ring;
-}
-
 TEST(Cyclic, SectorSolutionsAreTheRingSolutionsAtHarmonicsOneAndThree) {
   for (const int eo : {1, 2}) {
     const Model sector = CyclicSector(6, eo);
@@ -99,7 +81,7 @@ TEST(Cyclic, SectorSolutionsAreTheRingSolutionsAtHarmonicsOneAndThree) {
             << "EO " << eo << " H " << harmonics << " " << f;
         // The sector's solution, spread over the ring, solves the ring's balance at the α that
         // start each sector's period at its instant of the wave ...
-        const Eigen::VectorXd xr = RingOfSector(sector, s.x, harmonics);
+        const Eigen::VectorXd xr = SpreadOverRing(sector, s.x, harmonics);
         const Eigen::VectorXd ring_alpha =
             RingContactAlpha(sector, cyc.ContactHistories(s.x, kTwoPi * f, alpha), alpha);
         HbmEvaluation e;

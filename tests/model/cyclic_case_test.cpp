@@ -116,7 +116,6 @@ TEST(CyclicCase, FeSectorSolutionsSolveTheExplicitRingOfSixAtHarmonicsOneAndThre
   const Case c = DiskSectorOfSix();
   ASSERT_EQ(c.model.cyclic.sectors, 6);
   const Model ring = ExpandCyclicRing(c.model);
-  const int n = c.model.num_dofs(), ns = 6;
   for (const int harmonics : {1, 3}) {
     HbmOptions o{harmonics, 96};
     o.receptance = ReceptanceMethod::kDense;
@@ -131,20 +130,7 @@ TEST(CyclicCase, FeSectorSolutionsSolveTheExplicitRingOfSixAtHarmonicsOneAndThre
           SolveAtFrequency(sector, contact_alpha, f, Eigen::VectorXd(), FrfOptions{});
       ASSERT_EQ(s.status, SolverStatus::kConverged) << harmonics << " " << f;
       const Eigen::VectorXd x = sector.Recover(s.x, w, contact_alpha);
-      // Sector k is sector 0 delayed by k·φ, harmonic by harmonic.
-      const int nh = 2 * harmonics + 1;
-      Eigen::VectorXd xr(nh * n * ns);
-      for (int k = 0; k < ns; ++k) {
-        for (int d = 0; d < n; ++d) {
-          xr[k * n + d] = x[d];
-          for (int h = 1; h <= harmonics; ++h) {
-            double a = x[(2 * h - 1) * n + d], b = x[2 * h * n + d];
-            RotateHarmonic(h * k * c.model.cyclic.phase(), &a, &b);
-            xr[(2 * h - 1) * n * ns + k * n + d] = a;
-            xr[2 * h * n * ns + k * n + d] = b;
-          }
-        }
-      }
+      const Eigen::VectorXd xr = SpreadOverRing(c.model, x, harmonics);
       const Eigen::VectorXd ring_alpha =
           RingContactAlpha(c.model, sector.ContactHistories(s.x, w, contact_alpha), contact_alpha);
       HbmEvaluation e;
