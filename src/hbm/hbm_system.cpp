@@ -123,49 +123,28 @@ void CheckInputs(const HbmSystem& sys, const Eigen::VectorXd& x, const Eigen::Ve
 }
 
 // ∂(n_i N̂ + t_i T̂)/∂x of one contact added to the Jacobian: the blocks of the relative
-// displacement along each direction e, + on a side's own DOFs, − across the two sides.
+// displacement along each direction e, + on a side's own DOFs, − across the two sides. A cyclic
+// contact's side B reads its own directions through the delay P: ∂r/∂x_B = −d_b P, forces on B
+// −Pᵀ d_b F.
 void AddContactJacobian(const HbmSystem& sys, const Contact& c, const ContactForceBlocks& f,
                         Eigen::MatrixXd* jacobian) {
   const int dim = static_cast<int>(c.normal.size());
   const int nh = sys.num_coefficients();
-  if (c.cyclic()) {
-    // Side B's rows and columns go through the delay P: ∂r/∂x_B = −d_b P, forces on B −Pᵀ d_b F.
-    const Eigen::MatrixXd p = SideBMap(c, nh);
-    const Eigen::VectorXd *dn[2] = {&c.normal, &c.NormalB()}, *dt[2] = {&c.tangent, &c.TangentB()};
-    for (int i = 0; i < dim; ++i) {
-      for (int e = 0; e < dim; ++e) {
-        const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
-        const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
-        for (int sr = 0; sr < 2; ++sr) {
-          if (rows[sr] < 0) continue;
-          for (int sc = 0; sc < 2; ++sc) {
-            if (cols[sc] < 0) continue;
-            const double ni = (*dn[sr])[i], ti = (*dt[sr])[i], ne = (*dn[sc])[e], te = (*dt[sc])[e];
-            Eigen::MatrixXd block = ni * ne * f.dn_dv + ti * (te * f.dt_du + ne * f.dt_dv);
-            if (sr == 1) block = p.transpose() * block;
-            if (sc == 1) block = block * p;
-            const double sign = (sr == sc) ? 1.0 : -1.0;
-            for (int j = 0; j < nh; ++j) {
-              for (int l = 0; l < nh; ++l) {
-                (*jacobian)(sys.Index(rows[sr], j), sys.Index(cols[sc], l)) += sign * block(j, l);
-              }
-            }
-          }
-        }
-      }
-    }
-    return;
-  }
+  const bool delayed = c.cyclic();
+  const Eigen::MatrixXd p = delayed ? SideBMap(c, nh) : Eigen::MatrixXd();
+  const Eigen::VectorXd *dn[2] = {&c.normal, &c.NormalB()}, *dt[2] = {&c.tangent, &c.TangentB()};
   for (int i = 0; i < dim; ++i) {    // row direction
     for (int e = 0; e < dim; ++e) {  // column direction
-      const Eigen::MatrixXd block = c.normal[i] * c.normal[e] * f.dn_dv +
-                                    c.tangent[i] * (c.tangent[e] * f.dt_du + c.normal[e] * f.dt_dv);
       const int rows[2] = {c.dofs_a[i], c.dofs_b[i]};
       const int cols[2] = {c.dofs_a[e], c.dofs_b[e]};
       for (int sr = 0; sr < 2; ++sr) {
         if (rows[sr] < 0) continue;
         for (int sc = 0; sc < 2; ++sc) {
           if (cols[sc] < 0) continue;
+          const double ni = (*dn[sr])[i], ti = (*dt[sr])[i], ne = (*dn[sc])[e], te = (*dt[sc])[e];
+          Eigen::MatrixXd block = ni * ne * f.dn_dv + ti * (te * f.dt_du + ne * f.dt_dv);
+          if (delayed && sr == 1) block = p.transpose() * block;
+          if (delayed && sc == 1) block = block * p;
           const double sign = (sr == sc) ? 1.0 : -1.0;
           for (int j = 0; j < nh; ++j) {
             for (int l = 0; l < nh; ++l) {
