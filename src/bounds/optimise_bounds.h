@@ -37,10 +37,12 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
 // The sample check of *result at `system`'s own H (BoundsOptions::check_samples random α with
 // sample_seed): a sample beyond a bound restarts the optimiser from it, and the bound becomes the
 // best of the bound, the restart and the sample. seeds_before numbers the restart's seeds after
-// the search's own. from_sample_x: the restart starts on the sample's solution (else cold at its
-// α, as the search at H = 1 does). Does nothing without α or with check_samples = 0.
+// the search's own. refined (the check after the ladder's refinement at H): the samples are
+// solved without the continuations in frequency and the restart starts on the sample's solution
+// (else: the search's check, every fallback, the restart cold at the sample's α). Does nothing
+// without α or with check_samples = 0.
 void CheckBoundsBySamples(const HarmonicBalance& system, double freq_hz,
-                          const BoundsOptions& options, int seeds_before, bool from_sample_x,
+                          const BoundsOptions& options, int seeds_before, bool refined,
                           BoundsResult* result);
 
 // The harmonic ladder's sample check at the system's H, after the refinement of the H = 1 optima

@@ -19,6 +19,9 @@
 namespace fricrom {
 namespace {
 
+// The α homotopy's points a sample of the check at H may take (CheckBoundsBySamples, refined).
+constexpr int kRefinedSampleHomotopyPoints = 100;
+
 // A sample beats a bound only by more than this relative margin (solver tolerances are ~1e-10).
 constexpr double kBeatMargin = 1e-7;
 
@@ -57,8 +60,9 @@ constexpr int kColdStartIterations = 6;
 // 10-15 steps, the cold start 2-3; on the lumped case near resonance the minimum is the better
 // start.
 FrfPoint SolveSample(const HarmonicBalance& system, const Eigen::VectorXd& alpha, double freq_hz,
-                     const Eigen::VectorXd& stick, const Eigen::VectorXd& warm) {
-  FrfOptions options;
+                     const Eigen::VectorXd& stick, const Eigen::VectorXd& warm,
+                     const FrfOptions& fallbacks) {
+  FrfOptions options = fallbacks;
   if (warm.size() == 0) return SolveAtFrequency(system, alpha, freq_hz, Eigen::VectorXd(), options);
   const HbmAtFrequency at(system, RadPerS(freq_hz), alpha);
   Eigen::VectorXd r_cold, r_warm;
@@ -71,7 +75,7 @@ FrfPoint SolveSample(const HarmonicBalance& system, const Eigen::VectorXd& alpha
     const FrfPoint p = SolveAtFrequency(system, alpha, freq_hz, Eigen::VectorXd(), options);
     if (p.status == SolverStatus::kConverged) return p;
     cold_iterations = p.iterations;
-    options = FrfOptions();
+    options = fallbacks;
   }
   FrfPoint p = SolveAtFrequency(system, alpha, freq_hz, warm, options);
   p.iterations += cold_iterations;
@@ -86,7 +90,8 @@ struct SampleCandidates {
 
 // Solves at check_samples random α; keeps the sample furthest below y_min and above y_max.
 SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
-                             const BoundsOptions& options, BoundsResult* result) {
+                             const BoundsOptions& options, const FrfOptions& fallbacks,
+                             BoundsResult* result) {
   const int nc = system.num_alpha();
   const double omega = RadPerS(freq_hz);
   std::mt19937 rng(options.sample_seed);
@@ -101,7 +106,7 @@ SampleCandidates SampleAlpha(const HarmonicBalance& system, double freq_hz,
   for (int i = 0; i < options.check_samples; ++i) {
     Eigen::VectorXd a(nc);
     for (int k = 0; k < nc; ++k) a[k] = u(rng);
-    const FrfPoint p = SolveSample(system, a, freq_hz, stick, warm);
+    const FrfPoint p = SolveSample(system, a, freq_hz, stick, warm, fallbacks);
     ++result->samples_checked;
     if (options.progress) options.progress("samples", i + 1, options.check_samples);
     if (p.status != SolverStatus::kConverged) {
@@ -139,18 +144,26 @@ BoundsResult SearchFromSeeds(const HarmonicBalance& system, double freq_hz,
 }
 
 void CheckBoundsBySamples(const HarmonicBalance& system, double freq_hz,
-                          const BoundsOptions& options, int seeds_before, bool from_sample_x,
+                          const BoundsOptions& options, int seeds_before, bool refined,
                           BoundsResult* out) {
   if (system.num_alpha() == 0 || options.check_samples == 0) return;
   BoundsResult& result = *out;
-  const SampleCandidates c = SampleAlpha(system, freq_hz, options, &result);
+  // At H after the refinement a sample gets Newton and the α homotopy, not the continuations in
+  // frequency: on a cyclic sector above its stick frequency those took minutes per sample
+  // (every step refactorises the dense receptance), and a sample that fails is only counted.
+  FrfOptions fallbacks;
+  if (refined) {
+    fallbacks.frequency_fallbacks = 0;
+    fallbacks.fallback_max_points = kRefinedSampleHomotopyPoints;
+  }
+  const SampleCandidates c = SampleAlpha(system, freq_hz, options, fallbacks, &result);
   if (!c.have_low && !c.have_high) return;
   const double omega = RadPerS(freq_hz);
   std::vector<Eigen::VectorXd> restart;
   if (c.have_low) restart.push_back(c.alpha_low);
   if (c.have_high) restart.push_back(c.alpha_high);
   std::vector<Eigen::VectorXd> restart_x;
-  if (from_sample_x) {
+  if (refined) {
     if (c.have_low) restart_x.push_back(c.low.x);
     if (c.have_high) restart_x.push_back(c.high.x);
   }
